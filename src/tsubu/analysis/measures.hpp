@@ -1,0 +1,26 @@
+// Measurements on the current state: energies and packing statistics.
+#pragma once
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+struct Energies {
+  double kinetic_translational = 0;  // J
+  double kinetic_rotational = 0;     // J
+  double potential_gravity = 0;      // J, -sum m g.x (zero at the origin)
+};
+
+Energies energies(const World& w);
+
+// Volume of the sphere (centre height z0, radius r) between the planes z = a and z = b.
+double sphere_slab_volume(double z0, double r, double a, double b);
+
+// Solid fraction of the slab a < z < b over the full x-y cross-section of the domain,
+// from the exact sphere-slab volumes.
+double solid_fraction(const World& w, double a, double b);
+
+// Mean number of particle-particle contacts per particle with its centre in a < z < b
+// (walls excluded); `without_rattlers` skips particles with fewer than 2 contacts.
+double coordination(const World& w, double a, double b, bool without_rattlers);
+
+}  // namespace tsubu

@@ -1,0 +1,67 @@
+#include "tsubu/contact/law.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace tsubu {
+
+double effective_modulus(const Material& a, const Material& b) {
+  return 1.0 / ((1 - a.poisson * a.poisson) / a.youngs_modulus + (1 - b.poisson * b.poisson) / b.youngs_modulus);
+}
+
+double effective_shear_modulus(const Material& a, const Material& b) {
+  auto term = [](const Material& m) { return 2 * (2 - m.poisson) * (1 + m.poisson) / m.youngs_modulus; };
+  return 1.0 / (term(a) + term(b));
+}
+
+namespace {
+
+// k_n of model C from a target contact time t_c = pi / sqrt(k/m - (eta/2m)^2) with
+// eta = 2 beta sqrt(m k): t_c = pi / sqrt(k/m (1 - beta^2)).
+double stiffness_from_contact_time(double t_c, double m, double beta) {
+  return m * M_PI * M_PI / (t_c * t_c * (1 - beta * beta));
+}
+
+}  // namespace
+
+PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {
+  const double e_star = effective_modulus(a, b);
+  const double nu = 0.5 * (a.poisson + b.poisson);
+  const double beta = damping_ratio(spec.restitution);
+  PairLaw law;
+  double tangential_damping = 1.0;  // eta_t / eta_n
+  if (spec.normal == "linear") {
+    const double k = spec.stiffness > 0 ? spec.stiffness
+                                        : stiffness_from_contact_time(spec.contact_time, spec.reference_mass, beta);
+    law.normal = LinearDashpot{k, beta};
+  } else if (spec.normal == "hertz_tsuji") {
+    law.normal = HertzTsuji{e_star, HertzTsuji::alpha_of(spec.restitution)};
+  } else if (spec.normal == "hertz_sediment") {
+    law.normal = HertzSediment{e_star, spec.alpha};
+    tangential_damping = 1.0 / std::sqrt(2.0 * (1.0 - nu));  // beta_t = alpha / sqrt(2(1-sigma))
+  } else {
+    throw std::invalid_argument("unknown normal model " + spec.normal);
+  }
+  if (spec.tangential == "none") {
+    law.tangential = NoFriction{};
+  } else if (spec.tangential == "linear_coulomb") {
+    const double kappa = spec.stiffness_ratio > 0 ? spec.stiffness_ratio : 2 * (1 - nu) / (2 - nu);
+    // eta_t = 2 beta sqrt(m* k_t) = sqrt(kappa) eta_n for the linear model.
+    const double ratio = spec.normal == "linear" ? std::sqrt(kappa) : tangential_damping;
+    law.tangential = LinearCoulomb{kappa, ratio, spec.friction};
+  } else if (spec.tangential == "mindlin") {
+    law.tangential = MindlinSlip{spec.friction, nu, tangential_damping};
+  } else {
+    throw std::invalid_argument("unknown tangential model " + spec.tangential);
+  }
+  return law;
+}
+
+bool LawTable::uniform() const {
+  for (const auto& l : laws)
+    if (l.normal.index() != laws.front().normal.index() || l.tangential.index() != laws.front().tangential.index())
+      return false;
+  return true;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,68 @@
+// The contact law of one material pair: a normal and a tangential model. The force loop
+// dispatches on the pair of variant alternatives once per loop when every pair uses the
+// same models (the common case), so the per-contact code is a direct, inlined call.
+#pragma once
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "tsubu/contact/normal_models.hpp"
+#include "tsubu/contact/tangential_models.hpp"
+#include "tsubu/world/domain.hpp"
+
+namespace tsubu {
+
+using NormalModel = std::variant<LinearDashpot, HertzTsuji, HertzSediment>;
+using TangentialModel = std::variant<NoFriction, LinearCoulomb, MindlinSlip>;
+
+struct PairLaw {
+  NormalModel normal;
+  TangentialModel tangential;
+};
+
+// Force on particle i (normal + tangential) and the tangential part alone (for torques).
+struct ContactForce {
+  Vec3 total;
+  Vec3 tangential;
+  double energy = 0;
+};
+
+template <class Normal, class Tangential>
+inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
+                             const ContactGeometry& g, ContactHistory& h) {
+  const NormalForce fn = normal.force(g, h);
+  const Vec3 ft = tangential.force(g, fn, h.xi);
+  return {fn.f * g.n + ft, ft, fn.energy};
+}
+
+// What a scenario says about a material pair, before the materials are known.
+struct ContactSpec {
+  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment
+  std::string tangential = "mindlin";  // none | linear_coulomb | mindlin
+  double restitution = 1.0;            // e in (0, 1]
+  double friction = 0.0;               // mu
+  double stiffness = 0.0;              // k_n for linear, N/m (0: derive from contact_time)
+  double contact_time = 0.0;           // t_c for linear, s, with the reference mass below
+  double reference_mass = 0.0;         // m* used with contact_time, kg
+  double alpha = 0.2;                  // dashpot constant of hertz_sediment
+  double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu))
+};
+
+// Effective moduli of two materials (spec notation): E* and G*.
+double effective_modulus(const Material& a, const Material& b);
+double effective_shear_modulus(const Material& a, const Material& b);
+
+// Builds the law for materials a and b. Throws std::invalid_argument for combinations that
+// the scenario validator should have refused.
+PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b);
+
+// The table of laws indexed [a * n + b] for n materials.
+struct LawTable {
+  int n_materials = 0;
+  std::vector<PairLaw> laws;
+  const PairLaw& at(int a, int b) const { return laws[static_cast<std::size_t>(a * n_materials + b)]; }
+  // True when all laws use the same pair of model types.
+  bool uniform() const;
+};
+
+}  // namespace tsubu

@@ -1,0 +1,74 @@
+// Tangential contact models (spec/contact-models.md, "Tangential models"). Each returns the
+// tangential force on particle i and updates the spring `xi` kept in the contact history.
+#pragma once
+#include <cmath>
+
+#include "tsubu/contact/geometry.hpp"
+
+namespace tsubu {
+
+// Carry the spring into the current tangent plane (keeping its length), then stretch it by
+// the tangential displacement of this step.
+inline void advance_spring(Vec3& xi, const ContactGeometry& g) {
+  const double len2 = norm2(xi);
+  if (len2 > 0) {
+    Vec3 projected = xi - dot(xi, g.n) * g.n;
+    const double p2 = norm2(projected);
+    xi = p2 > 0 ? projected * std::sqrt(len2 / p2) : Vec3{};
+  }
+  xi += g.v_t * g.dt;
+}
+
+// Frictionless.
+struct NoFriction {
+  Vec3 force(const ContactGeometry&, const NormalForce&, Vec3&) const { return {}; }
+};
+
+// Linear spring with Coulomb cap: F_t = -k_t xi - eta_t v_t; while |k_t xi| > mu |F_n| the
+// force is mu |F_n| against xi and the spring is reset to -F_t/k_t (no damping while sliding).
+struct LinearCoulomb {
+  double stiffness_ratio = 1;  // k_t / k_n (kappa)
+  double damping_ratio = 1;    // eta_t / eta_n
+  double mu = 0;               // friction coefficient
+
+  Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+    advance_spring(xi, g);
+    const double k_t = stiffness_ratio * fn.stiffness;
+    const Vec3 spring = -k_t * xi;
+    const double limit = mu * std::abs(fn.f);
+    const double s2 = norm2(spring);
+    if (s2 > limit * limit) {
+      const Vec3 f_t = spring * (limit / std::sqrt(s2));
+      xi = f_t * (-1.0 / k_t);
+      return f_t;
+    }
+    return spring - damping_ratio * fn.damping * g.v_t;
+  }
+};
+
+// Mindlin-type with slip (Sota & Watanabe Eqs. 10-11): xi capped at
+// xi_max = mu (2-sigma)/(2(1-sigma)) delta; chi = 1 - (1 - |xi|/xi_max)^{3/2};
+// F_t = -mu chi |F_n| xi/|xi| - eta_t v_t.
+struct MindlinSlip {
+  double mu = 0;
+  double sigma = 0;          // Poisson's ratio of the pair
+  double damping_ratio = 1;  // eta_t / eta_n
+
+  Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+    advance_spring(xi, g);
+    const double xi_max = mu * (2.0 - sigma) / (2.0 * (1.0 - sigma)) * g.delta;
+    Vec3 f_t = -damping_ratio * fn.damping * g.v_t;
+    double len = norm(xi);
+    if (len > xi_max) {
+      xi *= xi_max / len;
+      len = xi_max;
+    }
+    if (len > 0 && xi_max > 0) {
+      const double chi = 1.0 - std::pow(1.0 - len / xi_max, 1.5);
+      f_t -= (mu * chi * std::abs(fn.f) / len) * xi;
+    }
+    return f_t;
+  }
+};
+
+}  // namespace tsubu

@@ -1,0 +1,63 @@
+#include "tsubu/integrate/integrators.hpp"
+
+#include <sstream>
+
+#include "tsubu/core/error.hpp"
+
+namespace tsubu {
+
+namespace {
+
+void kick(Particles& p, double h) {
+#pragma omp parallel for schedule(static)
+  for (long li = 0; li < static_cast<long>(p.size()); ++li) {
+    const std::size_t i = static_cast<std::size_t>(li);
+    p.velocity[i] += p.force[i] * (h / p.mass[i]);
+    p.omega[i] += p.torque[i] * (h / p.inertia[i]);
+  }
+}
+
+// x <- x + v dt, wrapped into the periodic box. A particle that is not finite or has left
+// a non-periodic side of the box stops the run.
+void drift(World& world, double h) {
+  Particles& p = world.particles;
+  long lost = -1;
+#pragma omp parallel for schedule(static) reduction(max : lost)
+  for (long li = 0; li < static_cast<long>(p.size()); ++li) {
+    const std::size_t i = static_cast<std::size_t>(li);
+    const Vec3 x = world.domain.wrap(p.position[i] + p.velocity[i] * h);
+    p.position[i] = x;
+    if (!world.domain.inside(x) || !std::isfinite(x.x + x.y + x.z)) lost = std::max(lost, li);
+  }
+  if (lost >= 0) {
+    const std::size_t i = static_cast<std::size_t>(lost);
+    const Vec3 x = p.position[i], v = p.velocity[i];
+    std::ostringstream msg;
+    msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
+        << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x
+        << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the time step " << world.dt
+        << " s is too large";
+    throw NumericalError(msg.str());
+  }
+}
+
+}  // namespace
+
+void symplectic_euler_step(World& world, ForceField& forces) {
+  kick(world.particles, world.dt);
+  drift(world, world.dt);
+  ++world.step;
+  world.time = static_cast<double>(world.step) * world.dt;
+  forces.compute(world);
+}
+
+void velocity_verlet_step(World& world, ForceField& forces) {
+  kick(world.particles, 0.5 * world.dt);
+  drift(world, world.dt);
+  ++world.step;
+  world.time = static_cast<double>(world.step) * world.dt;
+  forces.compute(world);
+  kick(world.particles, 0.5 * world.dt);
+}
+
+}  // namespace tsubu

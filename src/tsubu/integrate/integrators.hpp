@@ -1,0 +1,24 @@
+// Fixed-step integrators with rotation. Both expect world.particles.force/torque to hold
+// the forces at the current state when called (ForceField::compute once before the loop).
+#pragma once
+#include <string>
+
+#include "tsubu/contact/force_field.hpp"
+
+namespace tsubu {
+
+enum class Integrator { symplectic_euler, velocity_verlet };
+
+// v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
+void symplectic_euler_step(World& world, ForceField& forces);
+
+// v <- v + F/m dt/2; x <- x + v dt; new forces (velocity-dependent parts use the half-step
+// velocity, as LAMMPS and LIGGGHTS do); v <- v + F/m dt/2.
+void velocity_verlet_step(World& world, ForceField& forces);
+
+inline void advance(Integrator integrator, World& world, ForceField& forces) {
+  if (integrator == Integrator::symplectic_euler) symplectic_euler_step(world, forces);
+  else velocity_verlet_step(world, forces);
+}
+
+}  // namespace tsubu

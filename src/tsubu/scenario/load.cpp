@@ -1,0 +1,292 @@
+// Scenario loading: TOML -> checked plain structs. Keys are documented in docs/scenario.md;
+// keep the two in step.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tsubu/core/error.hpp"
+#include "tsubu/scenario/reader.hpp"
+#include "tsubu/scenario/scenario.hpp"
+
+namespace tsubu {
+
+namespace {
+
+std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 1469598103934665603ULL) {
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open the scenario file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// --set key.path=value: the value is TOML ("0.5", "\"hertz_tsuji\"", "[0,0,-9.81]"); a
+// numeric path element selects an entry of an array of tables ("particles.0.file").
+void apply_override(toml::table& root, const std::string& text) {
+  const std::string origin = "--set " + text;
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError(origin, 1, "", "expected key.path=value");
+  const std::string path = text.substr(0, eq);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("value = " + text.substr(eq + 1), origin);
+  } catch (const toml::parse_error& e) {
+    throw InputError(origin, 1, path, "the value is not valid TOML: " + std::string(e.description()));
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  toml::node* node = &root;
+  for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    if (auto* t = node->as_table()) {
+      if (!t->contains(parts[k])) t->insert(parts[k], toml::table{});
+      node = t->get(parts[k]);
+    } else if (auto* a = node->as_array()) {
+      const std::size_t idx = static_cast<std::size_t>(std::strtoul(parts[k].c_str(), nullptr, 10));
+      if (idx >= a->size()) throw InputError(origin, 1, path, "no entry " + parts[k] + " in this array");
+      node = a->get(idx);
+    } else {
+      throw InputError(origin, 1, path, "'" + parts[k] + "' is not a table or array");
+    }
+  }
+  auto* t = node->as_table();
+  if (!t) throw InputError(origin, 1, path, "the parent of the last key is not a table");
+  t->insert_or_assign(parts.back(), *parsed.get("value"));
+}
+
+int material_index(const Scenario& sc, Section& s, std::string_view key) {
+  const std::string name = s.text(key);
+  std::string names;
+  for (std::size_t k = 0; k < sc.materials.size(); ++k) {
+    if (sc.materials[k].name == name) return static_cast<int>(k);
+    names += (names.empty() ? "" : ", ") + sc.materials[k].name;
+  }
+  s.fail(key, "unknown material \"" + name + "\"; defined in [[materials]]: " + (names.empty() ? "none" : names));
+}
+
+void read_simulation(Section s, Scenario& sc) {
+  sc.name = s.text("name", std::filesystem::path(sc.file).stem().string());
+  sc.duration = s.positive("duration");
+  sc.dt = s.positive("dt");
+  if (sc.dt > sc.duration) s.fail("dt", "must not exceed simulation.duration");
+  sc.integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler"}, "velocity_verlet") == "symplectic_euler"
+                      ? Integrator::symplectic_euler
+                      : Integrator::velocity_verlet;
+  sc.gravity = s.vec3("gravity", {0, 0, -9.81});
+  const std::int64_t seed = s.integer("seed", 1);
+  if (seed < 0) s.fail("seed", "must be >= 0");
+  sc.seed = static_cast<std::uint64_t>(seed);
+  sc.overlap_limit = s.positive("overlap_limit", 0.1);
+  if (sc.overlap_limit >= 1) s.fail("overlap_limit", "is a fraction of the smaller diameter: allowed (0, 1)");
+  s.finish();
+}
+
+void read_domain(Section s, Scenario& sc) {
+  sc.domain.lower = s.vec3("lower");
+  sc.domain.upper = s.vec3("upper");
+  for (int k = 0; k < 3; ++k)
+    if (!(sc.domain.upper[k] > sc.domain.lower[k])) s.fail("upper", "must be above domain.lower on every axis");
+  for (const std::string& axis : s.texts("periodic", {})) {
+    if (axis != "x" && axis != "y" && axis != "z")
+      s.fail("periodic", "\"" + axis + "\" is not an axis; allowed: \"x\", \"y\", \"z\"");
+    sc.domain.periodic[static_cast<std::size_t>(axis[0] - 'x')] = true;
+  }
+  s.finish();
+}
+
+void read_material(Section s, Scenario& sc) {
+  Material m;
+  m.name = s.text("name");
+  for (const auto& other : sc.materials)
+    if (other.name == m.name) s.fail("name", "material \"" + m.name + "\" is defined twice");
+  m.density = s.positive("density");
+  m.youngs_modulus = s.positive("youngs_modulus");
+  m.poisson = s.real("poisson");
+  if (!(m.poisson >= 0 && m.poisson < 0.5)) s.fail("poisson", "allowed range [0, 0.5)");
+  s.finish();
+  sc.materials.push_back(m);
+}
+
+ContactSpec read_contact_spec(Section& s) {
+  ContactSpec c;
+  c.normal = s.choice("normal", {"linear", "hertz_tsuji", "hertz_sediment"}, "hertz_tsuji");
+  c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, "mindlin");
+  c.restitution = s.real("restitution", 1.0);
+  if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]");
+  c.friction = s.real("friction", 0.0);
+  if (c.friction < 0) s.fail("friction", "must be >= 0");
+  if (c.normal == "linear") c.stiffness = s.positive("stiffness");
+  if (c.normal == "hertz_sediment") c.alpha = s.positive("alpha", 0.2);
+  if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.has("stiffness_ratio") ? s.positive("stiffness_ratio") : 0.0;
+  return c;
+}
+
+void read_contact(Section s, Scenario& sc) {
+  if (auto d = s.table("default")) {
+    sc.default_contact = read_contact_spec(*d);
+    d->finish();
+  }
+  for (Section p : s.tables("pairs")) {
+    const auto names = p.texts("materials", {});
+    if (names.size() != 2) p.fail("materials", "must name two materials, e.g. [\"glass\", \"steel\"]");
+    PairContactSpec pc;
+    for (int k = 0; k < 2; ++k) {
+      int idx = -1;
+      for (std::size_t m = 0; m < sc.materials.size(); ++m)
+        if (sc.materials[m].name == names[static_cast<std::size_t>(k)]) idx = static_cast<int>(m);
+      if (idx < 0) p.fail("materials", "unknown material \"" + names[static_cast<std::size_t>(k)] + "\"");
+      (k == 0 ? pc.a : pc.b) = idx;
+    }
+    pc.spec = read_contact_spec(p);
+    p.finish();
+    sc.pair_contacts.push_back(pc);
+  }
+  s.finish();
+}
+
+void read_wall(Section s, Scenario& sc) {
+  Wall w;
+  w.point = s.vec3("point");
+  const Vec3 n = s.vec3("normal");
+  if (!(norm(n) > 0)) s.fail("normal", "must be a non-zero vector pointing towards the particles");
+  w.normal = n / norm(n);
+  w.material = material_index(sc, s, "material");
+  s.finish();
+  sc.walls.push_back(w);
+}
+
+SizeDistribution read_distribution(Section s) {
+  SizeDistribution d;
+  const std::string type = s.choice("type", {"single", "uniform", "lognormal", "talbot"}, std::nullopt);
+  if (type == "single") {
+    d.kind = SizeDistribution::Kind::single;
+    d.diameter = s.positive("diameter");
+  } else if (type == "uniform" || type == "talbot") {
+    d.kind = type == "uniform" ? SizeDistribution::Kind::uniform : SizeDistribution::Kind::talbot;
+    d.d_min = s.positive("d_min");
+    d.d_max = s.positive("d_max");
+    if (!(d.d_max > d.d_min)) s.fail("d_max", "must be larger than d_min");
+    if (type == "talbot") d.exponent = s.real("exponent");
+  } else {
+    d.kind = SizeDistribution::Kind::lognormal;
+    d.median = s.positive("median");
+    d.sigma = s.positive("sigma");
+    d.d_min = s.has("d_min") ? s.positive("d_min") : 0.0;
+    d.d_max = s.has("d_max") ? s.positive("d_max") : 0.0;
+    if (d.d_max > 0 && d.d_max <= d.d_min) s.fail("d_max", "must be larger than d_min");
+  }
+  s.finish();
+  return d;
+}
+
+void read_region(Section& s, ParticleSource& src, const Domain& domain) {
+  src.lower = s.vec3("lower");
+  src.upper = s.vec3("upper");
+  for (int k = 0; k < 3; ++k) {
+    if (!(src.upper[k] > src.lower[k])) s.fail("upper", "must be above lower on every axis");
+    if (src.lower[k] < domain.lower[k] || src.upper[k] > domain.upper[k])
+      s.fail("lower", "the region [lower, upper] must lie inside the domain");
+  }
+  src.velocity = s.vec3("velocity", {});
+}
+
+void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder) {
+  ParticleSource src;
+  src.where = {s.file(), s.line(), s.path()};
+  const std::string kind = s.choice("source", {"csv", "lattice", "random"}, std::nullopt);
+  src.material = material_index(sc, s, "material");
+  if (kind == "csv") {
+    src.kind = ParticleSource::Kind::csv;
+    const std::filesystem::path f = s.text("file");
+    src.file = (f.is_absolute() ? f : folder / f).lexically_normal().string();
+    src.overlap_tolerance = s.real("overlap_tolerance", 0.01);
+    if (src.overlap_tolerance < 0) s.fail("overlap_tolerance", "must be >= 0 (a fraction of the smaller diameter)");
+  } else if (kind == "lattice") {
+    src.kind = ParticleSource::Kind::lattice;
+    read_region(s, src, sc.domain);
+    src.diameter = s.positive("diameter");
+    src.spacing = s.positive("spacing", src.diameter);
+    if (src.spacing < src.diameter) s.fail("spacing", "must be at least the diameter (particles would overlap)");
+  } else {
+    src.kind = ParticleSource::Kind::random;
+    read_region(s, src, sc.domain);
+    src.solid_fraction = s.positive("solid_fraction");
+    if (src.solid_fraction > 0.4)
+      s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]");
+    auto dist = s.table("distribution");
+    if (!dist) s.fail("distribution", "is required for source = \"random\", e.g. { type = \"single\", diameter = 0.002 }");
+    src.sizes = read_distribution(*dist);
+  }
+  s.finish();
+  sc.sources.push_back(src);
+}
+
+void read_output(Section s, Scenario& sc) {
+  sc.output.dir = s.text("dir", "");
+  sc.output.vtk_interval = s.real("vtk_interval", sc.duration / 50);
+  sc.output.series_interval = s.real("series_interval", sc.duration / 200);
+  if (sc.output.vtk_interval < 0) s.fail("vtk_interval", "must be >= 0 (0 writes no frames)");
+  if (sc.output.series_interval < 0) s.fail("series_interval", "must be >= 0 (0 writes every step)");
+  s.finish();
+}
+
+void read_analysis(Section s, Scenario& sc) {
+  AnalysisSpec a;
+  const std::string type = s.choice("type", {"solid_fraction", "coordination"}, std::nullopt);
+  a.kind = type == "solid_fraction" ? AnalysisSpec::Kind::solid_fraction : AnalysisSpec::Kind::coordination;
+  a.name = s.text("name", type);
+  const auto z = s.reals("z_range");
+  if (z.size() != 2 || !(z[1] > z[0])) s.fail("z_range", "must be [z_low, z_high] with z_high > z_low");
+  a.z_low = z[0];
+  a.z_high = z[1];
+  for (const auto& other : sc.analyses)
+    if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
+  s.finish();
+  sc.analyses.push_back(a);
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
+  Scenario sc;
+  sc.file = path;
+  const std::string text = read_text(path);
+  sc.hash = fnv1a(text);
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path, static_cast<long>(e.source().begin.line), "", "not valid TOML: " + std::string(e.description()));
+  }
+  for (const auto& o : overrides) {
+    apply_override(root, o);
+    sc.hash = fnv1a(o, sc.hash);
+  }
+  const auto folder = std::filesystem::path(path).parent_path();
+  Section top(root, "", path);
+  auto sim = top.table("simulation");
+  if (!sim) top.fail("simulation", "is required: [simulation] with duration and dt");
+  read_simulation(*sim, sc);
+  auto domain = top.table("domain");
+  if (!domain) top.fail("domain", "is required: [domain] with lower and upper corners");
+  read_domain(*domain, sc);
+  for (Section m : top.tables("materials")) read_material(m, sc);
+  if (sc.materials.empty()) top.fail("materials", "at least one [[materials]] entry is required");
+  if (auto c = top.table("contact")) read_contact(*c, sc);
+  for (Section w : top.tables("walls")) read_wall(w, sc);
+  for (Section p : top.tables("particles")) read_particles(p, sc, folder);
+  if (sc.sources.empty()) top.fail("particles", "at least one [[particles]] source is required");
+  if (auto o = top.table("output")) read_output(*o, sc);
+  else read_output(Section(toml::table{}, "output", path), sc);
+  for (Section a : top.tables("analyses")) read_analysis(a, sc);
+  top.finish();
+  return sc;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,77 @@
+// A validated scenario: plain data, every value checked, every name resolved to an index.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tsubu/contact/law.hpp"
+#include "tsubu/integrate/integrators.hpp"
+#include "tsubu/source/size_distribution.hpp"
+#include "tsubu/world/domain.hpp"
+
+namespace tsubu {
+
+// Where a value came from, for errors found after loading (CSV rows, particle overlaps).
+struct SourceLocation {
+  std::string file;
+  long line = 0;
+  std::string key;
+};
+
+struct ParticleSource {
+  enum class Kind { csv, lattice, random };
+  Kind kind = Kind::csv;
+  SourceLocation where;
+  int material = 0;
+  std::string file;                // csv: path (resolved against the scenario's folder)
+  double overlap_tolerance = 0.01; // csv: largest allowed overlap / smaller diameter
+  Vec3 lower, upper;               // lattice, random: region, m
+  double diameter = 0;             // lattice, m
+  double spacing = 0;              // lattice, m
+  double solid_fraction = 0;       // random
+  SizeDistribution sizes;          // random
+  Vec3 velocity;                   // lattice, random: initial velocity, m/s
+};
+
+struct PairContactSpec {
+  int a = 0, b = 0;
+  ContactSpec spec;
+};
+
+struct OutputSpec {
+  std::string dir;             // empty: out/<name>
+  double vtk_interval = 0;     // s, 0 = no frames
+  double series_interval = 0;  // s
+};
+
+struct AnalysisSpec {
+  enum class Kind { solid_fraction, coordination };
+  Kind kind = Kind::solid_fraction;
+  std::string name;
+  double z_low = 0, z_high = 0;  // m, the measured slab
+};
+
+struct Scenario {
+  std::string file, name;
+  std::uint64_t hash = 0;  // FNV-1a of the scenario text and overrides
+  double duration = 0, dt = 0;
+  Integrator integrator = Integrator::velocity_verlet;
+  Vec3 gravity{0, 0, -9.81};
+  std::uint64_t seed = 1;
+  double overlap_limit = 0.1;
+  Domain domain;
+  std::vector<Material> materials;
+  ContactSpec default_contact;
+  std::vector<PairContactSpec> pair_contacts;
+  std::vector<Wall> walls;
+  std::vector<ParticleSource> sources;
+  OutputSpec output;
+  std::vector<AnalysisSpec> analyses;
+};
+
+// Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)
+// applied before validation. Throws InputError.
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace tsubu

@@ -1,0 +1,85 @@
+#include <algorithm>
+#include <cmath>
+
+#include "tsubu/core/parallel.hpp"
+#include "tsubu/search/pair_search.hpp"
+
+namespace tsubu {
+
+void CellGrid::bin(const Particles& p, const Domain& domain, double cell_size) {
+  for (int k = 0; k < 3; ++k) {
+    cells_[k] = std::max(1, static_cast<int>(std::floor(domain.length(k) / cell_size)));
+    cell_length_[k] = domain.length(k) / cells_[k];
+  }
+  const std::size_t n_cells = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
+  const std::size_t n = p.size();
+  cell_of_.resize(n);
+  cell_start_.assign(n_cells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    int c[3];
+    for (int k = 0; k < 3; ++k) {
+      const int ck = static_cast<int>(std::floor((p.position[i][k] - domain.lower[k]) / cell_length_[k]));
+      c[k] = std::clamp(ck, 0, cells_[k] - 1);  // non-periodic overshoot and round-off
+    }
+    cell_of_[i] = (c[2] * cells_[1] + c[1]) * cells_[0] + c[0];
+    ++cell_start_[static_cast<std::size_t>(cell_of_[i]) + 1];
+  }
+  for (std::size_t c = 0; c < n_cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_items_.resize(n);
+  std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) cell_items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of_[i])]++)] = static_cast<std::uint32_t>(i);
+}
+
+void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margin, std::vector<Pair>& out) {
+  out.clear();
+  const std::size_t n = p.size();
+  if (n == 0) return;
+  const double d_max = 2.0 * *std::max_element(p.radius.begin(), p.radius.end());
+  bin(p, domain, d_max + margin);
+
+  // Distinct neighbour cell indices per axis: {c-1, c, c+1} wrapped (periodic) or clipped.
+  auto neighbours = [&](int k, int c, int* out_cells) {
+    int count = 0;
+    for (int o = -1; o <= 1; ++o) {
+      int nc = c + o;
+      if (domain.periodic[k]) nc = (nc + cells_[k]) % cells_[k];
+      else if (nc < 0 || nc >= cells_[k]) continue;
+      if (std::find(out_cells, out_cells + count, nc) == out_cells + count) out_cells[count++] = nc;
+    }
+    return count;
+  };
+
+  const int threads = thread_count();
+  per_thread_.resize(static_cast<std::size_t>(threads));
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = thread_index();
+    auto& local = per_thread_[static_cast<std::size_t>(t)];
+    local.clear();
+    const auto [begin, end] = static_range(n, t, threads);
+    std::vector<std::uint32_t> found;
+    for (std::size_t i = begin; i < end; ++i) {
+      const int c = cell_of_[i];
+      const int cx = c % cells_[0], cy = (c / cells_[0]) % cells_[1], cz = c / (cells_[0] * cells_[1]);
+      int nx[3], ny[3], nz[3];
+      const int mx = neighbours(0, cx, nx), my = neighbours(1, cy, ny), mz = neighbours(2, cz, nz);
+      found.clear();
+      for (int a = 0; a < mz; ++a)
+        for (int b = 0; b < my; ++b)
+          for (int d = 0; d < mx; ++d) {
+            const std::size_t cell = static_cast<std::size_t>((nz[a] * cells_[1] + ny[b]) * cells_[0] + nx[d]);
+            for (int s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
+              const std::uint32_t j = cell_items_[static_cast<std::size_t>(s)];
+              if (j <= i) continue;
+              const double reach = p.radius[i] + p.radius[j] + margin;
+              if (norm2(domain.separation(p.position[i], p.position[j])) < reach * reach) found.push_back(j);
+            }
+          }
+      std::sort(found.begin(), found.end());
+      for (std::uint32_t j : found) local.push_back({static_cast<std::uint32_t>(i), j});
+    }
+  }
+  for (const auto& local : per_thread_) out.insert(out.end(), local.begin(), local.end());
+}
+
+}  // namespace tsubu

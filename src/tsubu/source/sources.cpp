@@ -1,0 +1,133 @@
+#include "tsubu/source/sources.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <unordered_map>
+
+#include "tsubu/core/error.hpp"
+
+namespace tsubu {
+
+std::vector<Grain> read_csv_grains(const ParticleSource& src) {
+  std::ifstream in(src.file);
+  if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
+  std::vector<Grain> out;
+  std::string line;
+  long number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
+    if (number == 1 && line.rfind("x,", 0) == 0) continue;  // header
+    std::vector<double> v;
+    std::size_t start = 0;
+    for (;;) {
+      const std::size_t comma = line.find(',', start);
+      std::string_view field(line.data() + start, (comma == std::string::npos ? line.size() : comma) - start);
+      while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
+      while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+      double x = 0;
+      const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
+      if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(x))
+        throw InputError(src.file, number, "", "\"" + std::string(field) + "\" is not a finite number; rows are x,y,z,d[,vx,vy,vz] in SI units");
+      v.push_back(x);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (v.size() != 4 && v.size() != 7)
+      throw InputError(src.file, number, "", "expected 4 or 7 numbers (x,y,z,d[,vx,vy,vz]), got " + std::to_string(v.size()));
+    if (!(v[3] > 0)) throw InputError(src.file, number, "", "diameter must be > 0");
+    Grain g{{v[0], v[1], v[2]}, {}, v[3], {src.file, number, ""}};
+    if (v.size() == 7) g.velocity = {v[4], v[5], v[6]};
+    out.push_back(g);
+  }
+  if (out.empty()) throw InputError(src.file, number, "", "no particles in the file");
+  return out;
+}
+
+std::vector<Grain> lattice_grains(const ParticleSource& src) {
+  std::vector<Grain> out;
+  const double r = 0.5 * src.diameter;
+  int count[3];
+  for (int k = 0; k < 3; ++k)
+    count[k] = static_cast<int>(std::floor((src.upper[k] - src.lower[k] - src.diameter) / src.spacing + 1e-9)) + 1;
+  for (int c = 0; c < 3; ++c)
+    if (count[c] < 1)
+      throw InputError(src.where.file, src.where.line, src.where.key, "the region is smaller than one diameter");
+  for (int k = 0; k < count[2]; ++k)
+    for (int j = 0; j < count[1]; ++j)
+      for (int i = 0; i < count[0]; ++i)
+        out.push_back({src.lower + Vec3{r + i * src.spacing, r + j * src.spacing, r + k * src.spacing}, src.velocity,
+                       src.diameter, src.where});
+  return out;
+}
+
+std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain, Random& rng) {
+  Vec3 size = src.upper - src.lower;
+  const double target = src.solid_fraction * size.x * size.y * size.z;
+  std::vector<double> diameters;
+  for (double volume = 0; volume < target;) {
+    const double d = src.sizes.sample(rng);
+    diameters.push_back(d);
+    volume += M_PI / 6 * d * d * d;
+  }
+  std::sort(diameters.rbegin(), diameters.rend());
+  const double cell = diameters.front();
+  bool wrap[3];
+  int cells[3];
+  for (int k = 0; k < 3; ++k) {
+    wrap[k] = domain.periodic[k] && src.lower[k] == domain.lower[k] && src.upper[k] == domain.upper[k];
+    cells[k] = std::max(1, static_cast<int>(size[k] / cell));
+  }
+  auto cell_of = [&](const Vec3& x, int k) {
+    return std::clamp(static_cast<int>((x[k] - src.lower[k]) / size[k] * cells[k]), 0, cells[k] - 1);
+  };
+  std::unordered_map<long, std::vector<std::size_t>> grid;
+  auto key = [&](int i, int j, int k) { return (static_cast<long>(k) * cells[1] + j) * cells[0] + i; };
+  std::vector<Grain> out;
+  for (std::size_t n = 0; n < diameters.size(); ++n) {
+    const double d = diameters[n], r = 0.5 * d;
+    bool placed = false;
+    for (int attempt = 0; attempt < 100000 && !placed; ++attempt) {
+      Vec3 x;
+      for (int k = 0; k < 3; ++k)
+        x[k] = wrap[k] ? rng.uniform(src.lower[k], src.upper[k]) : rng.uniform(src.lower[k] + r, src.upper[k] - r);
+      bool free = true;
+      const int c[3] = {cell_of(x, 0), cell_of(x, 1), cell_of(x, 2)};
+      for (int dk = -1; dk <= 1 && free; ++dk)
+        for (int dj = -1; dj <= 1 && free; ++dj)
+          for (int di = -1; di <= 1 && free; ++di) {
+            int ci[3] = {c[0] + di, c[1] + dj, c[2] + dk};
+            bool skip = false;
+            for (int k = 0; k < 3; ++k) {
+              if (wrap[k]) ci[k] = (ci[k] + cells[k]) % cells[k];
+              else if (ci[k] < 0 || ci[k] >= cells[k]) skip = true;
+            }
+            if (skip) continue;
+            auto it = grid.find(key(ci[0], ci[1], ci[2]));
+            if (it == grid.end()) continue;
+            for (std::size_t m : it->second) {
+              const double reach = r + 0.5 * out[m].diameter;
+              if (norm2(domain.separation(x, out[m].position)) < reach * reach) {
+                free = false;
+                break;
+              }
+            }
+          }
+      if (!free) continue;
+      // With fewer than 3 cells along a wrapped axis the stencil repeats cells; harmless.
+      grid[key(c[0], c[1], c[2])].push_back(out.size());
+      out.push_back({x, src.velocity, d, src.where});
+      placed = true;
+    }
+    if (!placed)
+      throw InputError(src.where.file, src.where.line, src.where.key + ".solid_fraction",
+                       "could not place grain " + std::to_string(n + 1) + " of " + std::to_string(diameters.size()) +
+                           " without overlap; lower the solid fraction or enlarge the region");
+  }
+  return out;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,29 @@
+// Particle sources: each appends grains (diameter, position, velocity) with the location they
+// came from, so that later checks can name the CSV line or the scenario table.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "tsubu/core/random.hpp"
+#include "tsubu/scenario/scenario.hpp"
+
+namespace tsubu {
+
+struct Grain {
+  Vec3 position, velocity;
+  double diameter = 0;
+  SourceLocation where;
+};
+
+// CSV `x,y,z,d[,vx,vy,vz]`, SI units, optional header line. Errors name file:line.
+std::vector<Grain> read_csv_grains(const ParticleSource& src);
+
+// Simple cubic lattice filling [lower, upper] with `spacing` between centres.
+std::vector<Grain> lattice_grains(const ParticleSource& src);
+
+// Random sequential placement without overlap in [lower, upper] (centres at least a radius
+// inside the region, except along periodic axes spanning the whole domain), up to the solid
+// fraction, largest grains first.
+std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain, Random& rng);
+
+}  // namespace tsubu

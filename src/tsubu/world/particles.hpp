@@ -1,0 +1,43 @@
+// The particle store: one array per quantity (structure of arrays), indexed 0..size()-1.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "tsubu/core/vec3.hpp"
+
+namespace tsubu {
+
+struct Particles {
+  std::vector<std::int64_t> id;       // user-visible id, stable for the whole run
+  std::vector<int> material;          // index into World::materials
+  std::vector<double> radius;         // m
+  std::vector<double> mass;           // kg
+  std::vector<double> inertia;        // kg m^2, solid sphere: 2/5 m R^2
+  std::vector<Vec3> position;         // m
+  std::vector<Vec3> velocity;         // m/s
+  std::vector<Vec3> omega;            // rad/s
+  std::vector<Vec3> force;            // N, total of the last evaluation
+  std::vector<Vec3> torque;           // N m
+  std::vector<int> contact_count;     // contacts (pairs and walls) at the last evaluation
+
+  std::size_t size() const { return radius.size(); }
+
+  void add(std::int64_t pid, int mat, double diameter, double density, const Vec3& x, const Vec3& v) {
+    const double r = 0.5 * diameter;
+    const double m = density * (4.0 / 3.0) * M_PI * r * r * r;
+    id.push_back(pid);
+    material.push_back(mat);
+    radius.push_back(r);
+    mass.push_back(m);
+    inertia.push_back(0.4 * m * r * r);
+    position.push_back(x);
+    velocity.push_back(v);
+    omega.push_back({});
+    force.push_back({});
+    torque.push_back({});
+    contact_count.push_back(0);
+  }
+};
+
+}  // namespace tsubu
