@@ -37,14 +37,16 @@ std::string json_escape(const std::string& s) {
 void write_run_json(const std::string& path, const Scenario& sc, int threads, const RunSummary& s,
                     const std::string& status, const std::string& message) {
   std::ofstream f(path);
-  f << std::setprecision(10);
+  f << std::setprecision(17);
   const double ps = s.wall_seconds > 0 ? static_cast<double>(s.particles) * static_cast<double>(s.steps) / s.wall_seconds : 0;
   f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"scenario\": \"" << json_escape(sc.file)
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
     << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
     << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"wall_time_s\": " << s.wall_seconds
-    << ",\n  \"particle_steps_per_second\": " << ps << ",\n  \"results\": {";
+    << ",\n  \"particle_steps_per_second\": " << ps << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
+    << sc.domain.lower.y << ", " << sc.domain.lower.z << "], \"upper\": [" << sc.domain.upper.x << ", " << sc.domain.upper.y
+    << ", " << sc.domain.upper.z << "]},\n  \"results\": {";
   const char* sep = "\n";
   for (const auto& [k, v] : s.results) {
     f << sep << "    \"" << json_escape(k) << "\": " << std::setprecision(17) << v;
