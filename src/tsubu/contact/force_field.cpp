@@ -35,7 +35,7 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
         [&](const auto& n0, const auto& t0) {
           using N = std::decay_t<decltype(n0)>;
           using T = std::decay_t<decltype(t0)>;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= kParallelMin)
           for (long k = 0; k < count; ++k) {
             const PairLaw& law = law_of(static_cast<std::size_t>(k));
             kernel(static_cast<std::size_t>(k), *std::get_if<N>(&law.normal), *std::get_if<T>(&law.tangential));
@@ -43,7 +43,7 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
         },
         laws.laws.front().normal, laws.laws.front().tangential);
   } else {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= kParallelMin)
     for (long k = 0; k < count; ++k) {
       const PairLaw& law = law_of(static_cast<std::size_t>(k));
       std::visit([&](const auto& nm, const auto& tm) { kernel(static_cast<std::size_t>(k), nm, tm); }, law.normal,
@@ -70,7 +70,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
   out.clear();
   if (world.walls.empty()) return;
   const Particles& p = world.particles;
-  const int threads = thread_count();
+  const int threads = threads_for(p.size());
   wall_hits_.resize(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
@@ -152,7 +152,7 @@ void ForceField::evaluate_walls(World& world) {
 void ForceField::accumulate(World& world) {
   Particles& p = world.particles;
   const std::size_t n = p.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (static_cast<long>(n) >= kParallelMin)
   for (long li = 0; li < static_cast<long>(n); ++li) {
     const std::size_t i = static_cast<std::size_t>(li);
     p.force[i] = p.mass[i] * world.gravity;

@@ -17,6 +17,12 @@ inline int thread_count() {
 #endif
 }
 
+// Loops shorter than this run on one thread: a parallel region costs more than the work.
+inline constexpr long kParallelMin = 4096;
+
+// Threads to use for n items of work.
+inline int threads_for(std::size_t n) { return static_cast<long>(n) < kParallelMin ? 1 : thread_count(); }
+
 inline int thread_index() {
 #ifdef _OPENMP
   return omp_get_thread_num();

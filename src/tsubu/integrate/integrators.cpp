@@ -3,13 +3,14 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/parallel.hpp"
 
 namespace tsubu {
 
 namespace {
 
 void kick(Particles& p, double h) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (static_cast<long>(p.size()) >= kParallelMin)
   for (long li = 0; li < static_cast<long>(p.size()); ++li) {
     const std::size_t i = static_cast<std::size_t>(li);
     p.velocity[i] += p.force[i] * (h / p.mass[i]);
@@ -22,7 +23,7 @@ void kick(Particles& p, double h) {
 void drift(World& world, double h) {
   Particles& p = world.particles;
   long lost = -1;
-#pragma omp parallel for schedule(static) reduction(max : lost)
+#pragma omp parallel for schedule(static) reduction(max : lost) if (static_cast<long>(p.size()) >= kParallelMin)
   for (long li = 0; li < static_cast<long>(p.size()); ++li) {
     const std::size_t i = static_cast<std::size_t>(li);
     const Vec3 x = world.domain.wrap(p.position[i] + p.velocity[i] * h);

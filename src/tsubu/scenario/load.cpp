@@ -57,11 +57,20 @@ void apply_override(toml::table& root, const std::string& text) {
   }
   auto* t = node->as_table();
   if (!t) throw InputError(origin, 1, path, "the parent of the last key is not a table");
-  t->insert_or_assign(parts.back(), *parsed.get("value"));
+  // Moved, not copied: a copied node forgets its source, which errors use to name the --set.
+  t->insert_or_assign(parts.back(), std::move(*parsed.get("value")));
 }
 
-int material_index(const Scenario& sc, Section& s, std::string_view key) {
-  const std::string name = s.text(key);
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// ", got <v>": the end of a message about a value out of its allowed range.
+std::string got(double v) { return ", got " + num(v); }
+
+int material_named(const Scenario& sc, const Section& s, std::string_view key, const std::string& name) {
   std::string names;
   for (std::size_t k = 0; k < sc.materials.size(); ++k) {
     if (sc.materials[k].name == name) return static_cast<int>(k);
@@ -70,11 +79,13 @@ int material_index(const Scenario& sc, Section& s, std::string_view key) {
   s.fail(key, "unknown material \"" + name + "\"; defined in [[materials]]: " + (names.empty() ? "none" : names));
 }
 
+int material_index(const Scenario& sc, Section& s, std::string_view key) { return material_named(sc, s, key, s.text(key)); }
+
 void read_simulation(Section s, Scenario& sc) {
   sc.name = s.text("name", std::filesystem::path(sc.file).stem().string());
   sc.duration = s.positive("duration");
   sc.dt = s.positive("dt");
-  if (sc.dt > sc.duration) s.fail("dt", "must not exceed simulation.duration");
+  if (sc.dt > sc.duration) s.fail("dt", "must not exceed simulation.duration (" + num(sc.duration) + " s)" + got(sc.dt));
   sc.integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler"}, "velocity_verlet") == "symplectic_euler"
                       ? Integrator::symplectic_euler
                       : Integrator::velocity_verlet;
@@ -83,13 +94,14 @@ void read_simulation(Section s, Scenario& sc) {
   if (seed < 0) s.fail("seed", "must be >= 0");
   sc.seed = static_cast<std::uint64_t>(seed);
   sc.overlap_limit = s.positive("overlap_limit", 0.1);
-  if (sc.overlap_limit >= 1) s.fail("overlap_limit", "is a fraction of the smaller diameter: allowed (0, 1)");
+  if (sc.overlap_limit >= 1) s.fail("overlap_limit", "is a fraction of the smaller diameter: allowed (0, 1)" + got(sc.overlap_limit));
   s.finish();
 }
 
 void read_domain(Section s, Scenario& sc) {
   sc.domain.lower = s.vec3("lower");
   sc.domain.upper = s.vec3("upper");
+  sc.domain_where = {s.file(), s.line(), s.path()};
   for (int k = 0; k < 3; ++k)
     if (!(sc.domain.upper[k] > sc.domain.lower[k])) s.fail("upper", "must be above domain.lower on every axis");
   for (const std::string& axis : s.texts("periodic", {})) {
@@ -108,7 +120,7 @@ void read_material(Section s, Scenario& sc) {
   m.density = s.positive("density");
   m.youngs_modulus = s.positive("youngs_modulus");
   m.poisson = s.real("poisson");
-  if (!(m.poisson >= 0 && m.poisson < 0.5)) s.fail("poisson", "allowed range [0, 0.5)");
+  if (!(m.poisson >= 0 && m.poisson < 0.5)) s.fail("poisson", "allowed range [0, 0.5)" + got(m.poisson));
   s.finish();
   sc.materials.push_back(m);
 }
@@ -118,12 +130,20 @@ ContactSpec read_contact_spec(Section& s) {
   c.normal = s.choice("normal", {"linear", "hertz_tsuji", "hertz_sediment"}, "hertz_tsuji");
   c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, "mindlin");
   c.restitution = s.real("restitution", 1.0);
-  if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]");
+  if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]" + got(c.restitution));
   c.friction = s.real("friction", 0.0);
-  if (c.friction < 0) s.fail("friction", "must be >= 0");
-  if (c.normal == "linear") c.stiffness = s.positive("stiffness");
+  if (c.friction < 0) s.fail("friction", "must be >= 0" + got(c.friction));
+  // Keys of one model only: refused by name with the other models rather than as unknown.
+  if (c.normal == "linear") {
+    if (!s.has("stiffness")) s.fail("stiffness", "is required with normal = \"linear\": the spring constant k_n in N/m");
+    c.stiffness = s.positive("stiffness");
+  } else if (s.has("stiffness")) {
+    s.fail("stiffness", "is used only with normal = \"linear\"");
+  }
   if (c.normal == "hertz_sediment") c.alpha = s.positive("alpha", 0.2);
-  if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.has("stiffness_ratio") ? s.positive("stiffness_ratio") : 0.0;
+  else if (s.has("alpha")) s.fail("alpha", "is used only with normal = \"hertz_sediment\"");
+  if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.positive("stiffness_ratio", 0.0);
+  else if (s.has("stiffness_ratio")) s.fail("stiffness_ratio", "is used only with tangential = \"linear_coulomb\"");
   return c;
 }
 
@@ -136,13 +156,11 @@ void read_contact(Section s, Scenario& sc) {
     const auto names = p.texts("materials", {});
     if (names.size() != 2) p.fail("materials", "must name two materials, e.g. [\"glass\", \"steel\"]");
     PairContactSpec pc;
-    for (int k = 0; k < 2; ++k) {
-      int idx = -1;
-      for (std::size_t m = 0; m < sc.materials.size(); ++m)
-        if (sc.materials[m].name == names[static_cast<std::size_t>(k)]) idx = static_cast<int>(m);
-      if (idx < 0) p.fail("materials", "unknown material \"" + names[static_cast<std::size_t>(k)] + "\"");
-      (k == 0 ? pc.a : pc.b) = idx;
-    }
+    pc.a = material_named(sc, p, "materials", names[0]);
+    pc.b = material_named(sc, p, "materials", names[1]);
+    for (const auto& other : sc.pair_contacts)
+      if ((other.a == pc.a && other.b == pc.b) || (other.a == pc.b && other.b == pc.a))
+        p.fail("materials", "the pair \"" + names[0] + "\", \"" + names[1] + "\" has two [[contact.pairs]] entries");
     pc.spec = read_contact_spec(p);
     p.finish();
     sc.pair_contacts.push_back(pc);
@@ -190,8 +208,8 @@ void read_region(Section& s, ParticleSource& src, const Domain& domain) {
   src.upper = s.vec3("upper");
   for (int k = 0; k < 3; ++k) {
     if (!(src.upper[k] > src.lower[k])) s.fail("upper", "must be above lower on every axis");
-    if (src.lower[k] < domain.lower[k] || src.upper[k] > domain.upper[k])
-      s.fail("lower", "the region [lower, upper] must lie inside the domain");
+    if (src.lower[k] < domain.lower[k]) s.fail("lower", "the region [lower, upper] must lie inside the domain (below domain.lower)");
+    if (src.upper[k] > domain.upper[k]) s.fail("upper", "the region [lower, upper] must lie inside the domain (above domain.upper)");
   }
   src.velocity = s.vec3("velocity", {});
 }
@@ -205,20 +223,21 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     src.kind = ParticleSource::Kind::csv;
     const std::filesystem::path f = s.text("file");
     src.file = (f.is_absolute() ? f : folder / f).lexically_normal().string();
+    if (!std::filesystem::is_regular_file(src.file)) s.fail("file", "no such file \"" + src.file + "\" (relative paths start at the scenario's folder)");
     src.overlap_tolerance = s.real("overlap_tolerance", 0.01);
-    if (src.overlap_tolerance < 0) s.fail("overlap_tolerance", "must be >= 0 (a fraction of the smaller diameter)");
+    if (src.overlap_tolerance < 0) s.fail("overlap_tolerance", "must be >= 0 (a fraction of the smaller diameter)" + got(src.overlap_tolerance));
   } else if (kind == "lattice") {
     src.kind = ParticleSource::Kind::lattice;
     read_region(s, src, sc.domain);
     src.diameter = s.positive("diameter");
     src.spacing = s.positive("spacing", src.diameter);
-    if (src.spacing < src.diameter) s.fail("spacing", "must be at least the diameter (particles would overlap)");
+    if (src.spacing < src.diameter) s.fail("spacing", "must be at least the diameter " + num(src.diameter) + " m (particles would overlap)" + got(src.spacing));
   } else {
     src.kind = ParticleSource::Kind::random;
     read_region(s, src, sc.domain);
     src.solid_fraction = s.positive("solid_fraction");
     if (src.solid_fraction > 0.4)
-      s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]");
+      s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]" + got(src.solid_fraction));
     auto dist = s.table("distribution");
     if (!dist) s.fail("distribution", "is required for source = \"random\", e.g. { type = \"single\", diameter = 0.002 }");
     src.sizes = read_distribution(*dist);

@@ -22,6 +22,12 @@ const char* type_name(const toml::node& n) {
   }
 }
 
+// The file a node came from: a value given on the command line (--set) carries its own name.
+const std::string& origin(const toml::node* n, const std::string& file) {
+  const auto& src = n ? n->source().path : nullptr;
+  return src && !src->empty() ? *src : file;
+}
+
 std::optional<double> as_number(const toml::node& n) {
   if (auto v = n.value_exact<double>()) return *v;
   if (auto v = n.value_exact<std::int64_t>()) return static_cast<double>(*v);
@@ -65,26 +71,26 @@ std::string Section::key_path(std::string_view key) const {
 }
 
 void Section::fail(std::string_view key, const std::string& what) const {
-  // A value given on the command line (--set) carries its own source name.
   const toml::node* n = table_->get(key);
-  const auto& src = n ? n->source().path : nullptr;
-  throw InputError(src && !src->empty() ? *src : file_, line_of(key), key_path(key), what);
+  std::string hint;  // a missing key may be a misspelt one
+  if (!n)
+    for (const auto& [k, v] : *table_)
+      if (!asked_.count(k.str()) && edit_distance(k.str(), key) < 3)
+        hint = " (line " + std::to_string(v.source().begin.line) + " has '" + std::string(k.str()) + "': a typo?)";
+  throw InputError(origin(n, file_), line_of(key), key_path(key), what + hint);
 }
 
 const toml::node& Section::node(std::string_view key) {
   asked_.insert(std::string(key));
   const toml::node* n = table_->get(key);
-  if (n) return *n;
-  std::string hint;
-  for (const auto& [k, v] : *table_)
-    if (!asked_.count(k.str()) && edit_distance(k.str(), key) < 3)
-      hint = " (line " + std::to_string(v.source().begin.line) + " has '" + std::string(k.str()) + "': a typo?)";
-  throw InputError(file_, line(), key_path(key), "is required but missing" + hint);
+  if (!n) fail(key, "is required but missing");
+  return *n;
 }
 
 double Section::real(std::string_view key) {
   const toml::node& n = node(key);
   auto v = as_number(n);
+  if (!v && n.is_string()) fail(key, "must be a number, got the string \"" + *n.value<std::string>() + "\" (write numbers without quotes)");
   if (!v) fail(key, std::string("must be a number, got ") + type_name(n));
   if (!std::isfinite(*v)) fail(key, "must be a finite number");
   return *v;
@@ -213,7 +219,7 @@ void Section::finish(std::initializer_list<const char*> also_allowed) const {
       const std::size_t d = edit_distance(key, a);
       if (d < best_d) best_d = d, best = a;
     }
-    throw InputError(file_, static_cast<long>(v.source().begin.line), key_path(key),
+    throw InputError(origin(&v, file_), static_cast<long>(v.source().begin.line), key_path(key),
                      "unknown key" + (best.empty() ? std::string() : " (did you mean '" + best + "'?)") +
                          (allowed.empty() ? std::string() : "; allowed here: " + allowed));
   }

@@ -61,6 +61,7 @@ struct Scenario {
   std::uint64_t seed = 1;
   double overlap_limit = 0.1;
   Domain domain;
+  SourceLocation domain_where;  // the [domain] table, for checks made once the particles exist
   std::vector<Material> materials;
   ContactSpec default_contact;
   std::vector<PairContactSpec> pair_contacts;

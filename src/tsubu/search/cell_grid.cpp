@@ -7,18 +7,36 @@
 namespace tsubu {
 
 void CellGrid::bin(const Particles& p, const Domain& domain, double cell_size) {
+  const std::size_t n = p.size();
+  double extent[3];
   for (int k = 0; k < 3; ++k) {
-    cells_[k] = std::max(1, static_cast<int>(std::floor(domain.length(k) / cell_size)));
-    cell_length_[k] = domain.length(k) / cells_[k];
+    if (domain.periodic[k]) {
+      origin_[k] = domain.lower[k];
+      extent[k] = domain.length(k);
+    } else {
+      double lo = p.position[0][k], hi = lo;
+      for (std::size_t i = 1; i < n; ++i) lo = std::min(lo, p.position[i][k]), hi = std::max(hi, p.position[i][k]);
+      origin_[k] = lo;
+      extent[k] = hi - lo;
+    }
+  }
+  const double max_cells = 4.0 * static_cast<double>(n) + 27.0;
+  for (;; cell_size *= 1.25) {
+    double total = 1;
+    for (int k = 0; k < 3; ++k) total *= std::max(1.0, std::floor(extent[k] / cell_size));
+    if (total <= max_cells) break;
+  }
+  for (int k = 0; k < 3; ++k) {
+    cells_[k] = std::max(1, static_cast<int>(std::floor(extent[k] / cell_size)));
+    cell_length_[k] = extent[k] > 0 ? extent[k] / cells_[k] : cell_size;
   }
   const std::size_t n_cells = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
-  const std::size_t n = p.size();
   cell_of_.resize(n);
   cell_start_.assign(n_cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     int c[3];
     for (int k = 0; k < 3; ++k) {
-      const int ck = static_cast<int>(std::floor((p.position[i][k] - domain.lower[k]) / cell_length_[k]));
+      const int ck = static_cast<int>(std::floor((p.position[i][k] - origin_[k]) / cell_length_[k]));
       c[k] = std::clamp(ck, 0, cells_[k] - 1);  // non-periodic overshoot and round-off
     }
     cell_of_[i] = (c[2] * cells_[1] + c[1]) * cells_[0] + c[0];
@@ -49,7 +67,7 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
     return count;
   };
 
-  const int threads = thread_count();
+  const int threads = threads_for(n);
   per_thread_.resize(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {

@@ -15,7 +15,9 @@ struct Pair {
 };
 
 // Linked-cell grid: cells no smaller than the largest diameter (+ margin), particles
-// binned by a counting sort each call, 27-cell stencil with periodic wrap.
+// binned by a counting sort each call, 27-cell stencil with periodic wrap. Along periodic
+// axes the grid spans the box; along the others, only the particles' extent. Cells are
+// enlarged when needed so that there are at most about 4 per particle.
 class CellGrid {
  public:
   void find_pairs(const Particles& p, const Domain& domain, double margin, std::vector<Pair>& out);
@@ -23,6 +25,7 @@ class CellGrid {
  private:
   int cells_[3] = {1, 1, 1};
   double cell_length_[3] = {1, 1, 1};
+  double origin_[3] = {0, 0, 0};
   std::vector<int> cell_of_;       // per particle
   std::vector<int> cell_start_;    // per cell + 1, offsets into cell_items_
   std::vector<std::uint32_t> cell_items_;

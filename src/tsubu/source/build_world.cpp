@@ -45,8 +45,8 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
     const double overlap = p.radius[pr.i] + p.radius[pr.j] - dist;
     const double ratio = overlap / (2 * std::min(p.radius[pr.i], p.radius[pr.j]));
     if (ratio > std::min(tolerance[pr.i], tolerance[pr.j])) {
-      const Grain& a = grains[pr.i];
-      const Grain& b = grains[pr.j];
+      const Grain& a = grains[std::max(pr.i, pr.j)];  // the later grain, naming the earlier one
+      const Grain& b = grains[std::min(pr.i, pr.j)];
       std::ostringstream s;
       s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
         << " of the smaller diameter; allowed up to " << std::min(tolerance[pr.i], tolerance[pr.j])
@@ -84,7 +84,8 @@ World build_world(const Scenario& sc) {
       w.particles.add(static_cast<std::int64_t>(grains.size()), src.material, grain.diameter, mat.density,
                       grain.position, grain.velocity);
       grains.push_back(grain);
-      tolerance.push_back(src.kind == ParticleSource::Kind::csv ? src.overlap_tolerance : 0.0);
+      // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
+      tolerance.push_back(src.kind == ParticleSource::Kind::csv ? src.overlap_tolerance : 1e-9);
     }
   }
   const double d_max = 2 * *std::max_element(w.particles.radius.begin(), w.particles.radius.end());
@@ -93,7 +94,7 @@ World build_world(const Scenario& sc) {
       std::ostringstream s;
       s << "the periodic length along " << "xyz"[k] << " (" << sc.domain.length(k)
         << " m) must be at least twice the largest diameter (" << d_max << " m)";
-      throw InputError(sc.file, 0, "domain.upper", s.str());
+      fail_at(sc.domain_where, s.str());
     }
   check_overlaps(w, grains, tolerance);
   return w;

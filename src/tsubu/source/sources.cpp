@@ -10,6 +10,10 @@
 
 namespace tsubu {
 
+namespace {
+const char* const kColumns[] = {"x", "y", "z", "d", "vx", "vy", "vz"};  // the key named by a bad field
+}  // namespace
+
 std::vector<Grain> read_csv_grains(const ParticleSource& src) {
   std::ifstream in(src.file);
   if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
@@ -31,14 +35,15 @@ std::vector<Grain> read_csv_grains(const ParticleSource& src) {
       double x = 0;
       const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(x))
-        throw InputError(src.file, number, "", "\"" + std::string(field) + "\" is not a finite number; rows are x,y,z,d[,vx,vy,vz] in SI units");
+        throw InputError(src.file, number, v.size() < 7 ? kColumns[v.size()] : "",
+                         "\"" + std::string(field) + "\" is not a finite number; rows are x,y,z,d[,vx,vy,vz] in SI units");
       v.push_back(x);
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
     if (v.size() != 4 && v.size() != 7)
       throw InputError(src.file, number, "", "expected 4 or 7 numbers (x,y,z,d[,vx,vy,vz]), got " + std::to_string(v.size()));
-    if (!(v[3] > 0)) throw InputError(src.file, number, "", "diameter must be > 0");
+    if (!(v[3] > 0)) throw InputError(src.file, number, "d", "the diameter must be > 0 (metres)");
     Grain g{{v[0], v[1], v[2]}, {}, v[3], {src.file, number, ""}};
     if (v.size() == 7) g.velocity = {v[4], v[5], v[6]};
     out.push_back(g);

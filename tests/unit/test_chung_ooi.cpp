@@ -1,0 +1,105 @@
+// Chung & Ooi (2011) benchmark tests 1-3 (spec/validation.md section C), through the full
+// engine: contact search, force field and velocity Verlet.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "world_builder.hpp"
+
+namespace tsubu {
+namespace {
+
+using testing::make_world;
+using testing::spec_of;
+
+struct ImpactRecord {
+  double peak_force = 0, max_overlap = 0, contact_time = 0, restitution = 0;
+};
+
+// Steps until the pair (or the sphere and the wall) has touched and separated again.
+// The restitution is the ratio of the normal relative speeds after/before.
+ImpactRecord record_impact(World& w, bool wall) {
+  ForceField f;
+  f.compute(w);
+  const Particles& p = w.particles;
+  auto normal_speed = [&] { return wall ? -p.velocity[0].z : p.velocity[0].x - p.velocity[1].x; };
+  const double v_in = normal_speed();
+  ImpactRecord r;
+  bool touched = false;
+  int steps_in_contact = 0;
+  for (int s = 0; s < 10000000; ++s) {
+    velocity_verlet_step(w, f);
+    const bool touching = f.totals().contacts > 0;
+    if (touching) {
+      touched = true;
+      ++steps_in_contact;
+      r.peak_force = std::max(r.peak_force, std::abs(p.force[0].x) + std::abs(p.force[0].z));
+      r.max_overlap = std::max(r.max_overlap, f.totals().max_overlap_ratio * 2 * p.radius[0]);
+    } else if (touched) {
+      break;
+    }
+  }
+  r.contact_time = steps_in_contact * w.dt;
+  r.restitution = -normal_speed() / v_in;
+  return r;
+}
+
+ImpactRecord head_on(const Material& m, double radius, double speed, const ContactSpec& spec, double dt) {
+  World w = make_world(m, spec, dt);
+  w.particles.add(0, 0, 2 * radius, m.density, {-radius - speed * 2 * dt, 0, 0}, {speed, 0, 0});
+  w.particles.add(1, 0, 2 * radius, m.density, {radius + speed * 2 * dt, 0, 0}, {-speed, 0, 0});
+  return record_impact(w, false);
+}
+
+ImpactRecord on_rigid_plane(const Material& m, double radius, double speed, const ContactSpec& spec, double dt) {
+  World w = make_world(m, spec, dt);
+  testing::add_wall_material(w, {"rigid", 1, 1e30, 0.0}, spec);
+  w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 1});
+  w.particles.add(0, 0, 2 * radius, m.density, {0, 0, radius + speed * 2 * dt}, {0, 0, -speed});
+  return record_impact(w, true);
+}
+
+// Test 1: two identical spheres, R = 10 mm, +-10 m/s, elastic Hertz.
+TEST(ChungOoi, Test1HeadOnGlass) {
+  const auto r = head_on({"glass", 2800, 48e9, 0.20}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), 1e-8);
+  EXPECT_NEAR(r.peak_force, 10.70e3, 0.01 * 10.70e3);
+  EXPECT_NEAR(r.restitution, 1.0, 1e-6);
+}
+
+TEST(ChungOoi, Test1HeadOnLimestone) {
+  const auto r = head_on({"limestone", 2500, 20e9, 0.25}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), 1e-8);
+  EXPECT_NEAR(r.peak_force, 7.11e3, 0.01 * 7.11e3);
+  EXPECT_NEAR(r.max_overlap, 0.368e-3, 0.01 * 0.368e-3);
+  // Published to two digits (54 us): half a unit of the last digit plus 1 %.
+  EXPECT_NEAR(r.contact_time, 54e-6, 0.5e-6 + 0.01 * 54e-6);
+}
+
+// Test 2: sphere on a rigid plane, R = 0.1 m, 0.2 m/s.
+TEST(ChungOoi, Test2RigidPlaneAluminium) {
+  const auto r = on_rigid_plane({"al", 2699, 70e9, 0.30}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), 1e-7);
+  EXPECT_NEAR(r.peak_force, 11.37e3, 0.01 * 11.37e3);
+}
+
+TEST(ChungOoi, Test2RigidPlaneMagnesium) {
+  const auto r = on_rigid_plane({"mg", 1800, 40e9, 0.35}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), 1e-7);
+  EXPECT_NEAR(r.peak_force, 7.23e3, 0.01 * 7.23e3);
+}
+
+// Test 3: R = 2.5 mm alumina at 3.9 m/s on a rigid plane with damping: the output restitution
+// equals the input within 2 %, for the linear (C) and Hertz-Tsuji (T) models.
+class ChungOoiTest3 : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+
+TEST_P(ChungOoiTest3, RestitutionMatchesInput) {
+  const auto [model, e] = GetParam();
+  ContactSpec spec = spec_of(model, "none", e);
+  spec.stiffness = 1e7;  // N/m for the linear model: contact time ~ 80 us at this mass
+  const auto r = on_rigid_plane({"alumina", 4000, 380e9, 0.23}, 2.5e-3, 3.9, spec, 2e-9);
+  EXPECT_NEAR(r.restitution, e, 0.02 * e) << model;
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, ChungOoiTest3,
+                         ::testing::Combine(::testing::Values("linear", "hertz_tsuji"),
+                                            ::testing::Values(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)));
+
+}  // namespace
+}  // namespace tsubu
