@@ -29,26 +29,22 @@ void carry_history(const std::vector<Pair>& found, const std::vector<Contact>& o
 // loop; otherwise once per contact through a jump table (never a virtual call).
 template <class LawOf, class Kernel>
 void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel kernel) {
-  const long count = static_cast<long>(n);
   if (laws.uniform()) {
     std::visit(
         [&](const auto& n0, const auto& t0) {
           using N = std::decay_t<decltype(n0)>;
           using T = std::decay_t<decltype(t0)>;
-#pragma omp parallel for schedule(static) if (count >= kParallelMin)
-          for (long k = 0; k < count; ++k) {
-            const PairLaw& law = law_of(static_cast<std::size_t>(k));
-            kernel(static_cast<std::size_t>(k), *std::get_if<N>(&law.normal), *std::get_if<T>(&law.tangential));
-          }
+          parallel_for(n, [&](std::size_t k) {
+            const PairLaw& law = law_of(k);
+            kernel(k, *std::get_if<N>(&law.normal), *std::get_if<T>(&law.tangential));
+          });
         },
         laws.laws.front().normal, laws.laws.front().tangential);
   } else {
-#pragma omp parallel for schedule(static) if (count >= kParallelMin)
-    for (long k = 0; k < count; ++k) {
-      const PairLaw& law = law_of(static_cast<std::size_t>(k));
-      std::visit([&](const auto& nm, const auto& tm) { kernel(static_cast<std::size_t>(k), nm, tm); }, law.normal,
-                 law.tangential);
-    }
+    parallel_for(n, [&](std::size_t k) {
+      const PairLaw& law = law_of(k);
+      std::visit([&](const auto& nm, const auto& tm) { kernel(k, nm, tm); }, law.normal, law.tangential);
+    });
   }
 }
 
@@ -72,9 +68,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
   const Particles& p = world.particles;
   const int threads = threads_for(p.size());
   wall_hits_.resize(static_cast<std::size_t>(threads));
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = thread_index();
+  for_each_thread(threads, [&](int t) {
     auto& local = wall_hits_[static_cast<std::size_t>(t)];
     local.clear();
     const auto [begin, end] = static_range(p.size(), t, threads);
@@ -85,7 +79,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
         if (dist < p.radius[i] && dist > -p.radius[i])
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
-  }
+  });
   for (const auto& local : wall_hits_) out.insert(out.end(), local.begin(), local.end());
 }
 
@@ -152,13 +146,11 @@ void ForceField::evaluate_walls(World& world) {
 void ForceField::accumulate(World& world) {
   Particles& p = world.particles;
   const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) if (static_cast<long>(n) >= kParallelMin)
-  for (long li = 0; li < static_cast<long>(n); ++li) {
-    const std::size_t i = static_cast<std::size_t>(li);
+  parallel_for(n, [&](std::size_t i) {
     p.force[i] = p.mass[i] * world.gravity;
     p.torque[i] = {};
     p.contact_count[i] = 0;
-  }
+  });
   // Serial, in contact order: the sums are the same bits for every thread count.
   ContactTotals totals;
   const Contact* worst = nullptr;

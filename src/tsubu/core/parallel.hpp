@@ -31,6 +31,30 @@ inline int thread_index() {
 #endif
 }
 
+// Runs body(t) for t = 0..threads-1, one call per thread; with one thread no parallel
+// region is opened at all (even an empty team wakes the OpenMP workers).
+template <class Body>
+void for_each_thread(int threads, Body&& body) {
+  if (threads == 1) {
+    body(0);
+    return;
+  }
+#pragma omp parallel num_threads(threads)
+  body(thread_index());
+}
+
+// body(i) for i = 0..n-1, statically scheduled; serial below kParallelMin items.
+template <class Body>
+void parallel_for(std::size_t n, Body&& body) {
+  const long count = static_cast<long>(n);
+  if (threads_for(n) == 1) {
+    for (long i = 0; i < count; ++i) body(static_cast<std::size_t>(i));
+    return;
+  }
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < count; ++i) body(static_cast<std::size_t>(i));
+}
+
 inline std::pair<std::size_t, std::size_t> static_range(std::size_t n, int t, int threads) {
   const std::size_t T = static_cast<std::size_t>(threads), k = static_cast<std::size_t>(t);
   return {n * k / T, n * (k + 1) / T};

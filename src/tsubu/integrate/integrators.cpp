@@ -10,29 +10,20 @@ namespace tsubu {
 namespace {
 
 void kick(Particles& p, double h) {
-#pragma omp parallel for schedule(static) if (static_cast<long>(p.size()) >= kParallelMin)
-  for (long li = 0; li < static_cast<long>(p.size()); ++li) {
-    const std::size_t i = static_cast<std::size_t>(li);
+  parallel_for(p.size(), [&](std::size_t i) {
     p.velocity[i] += p.force[i] * (h / p.mass[i]);
     p.omega[i] += p.torque[i] * (h / p.inertia[i]);
-  }
+  });
 }
 
 // x <- x + v dt, wrapped into the periodic box. A particle that is not finite or has left
 // a non-periodic side of the box stops the run.
 void drift(World& world, double h) {
   Particles& p = world.particles;
-  long lost = -1;
-#pragma omp parallel for schedule(static) reduction(max : lost) if (static_cast<long>(p.size()) >= kParallelMin)
-  for (long li = 0; li < static_cast<long>(p.size()); ++li) {
-    const std::size_t i = static_cast<std::size_t>(li);
-    const Vec3 x = world.domain.wrap(p.position[i] + p.velocity[i] * h);
-    p.position[i] = x;
-    if (!world.domain.inside(x) || !std::isfinite(x.x + x.y + x.z)) lost = std::max(lost, li);
-  }
-  if (lost >= 0) {
-    const std::size_t i = static_cast<std::size_t>(lost);
+  parallel_for(p.size(), [&](std::size_t i) { p.position[i] = world.domain.wrap(p.position[i] + p.velocity[i] * h); });
+  for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec3 x = p.position[i], v = p.velocity[i];
+    if (world.domain.inside(x) && std::isfinite(x.x + x.y + x.z)) continue;
     std::ostringstream msg;
     msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
         << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x

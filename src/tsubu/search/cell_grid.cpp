@@ -69,9 +69,7 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
 
   const int threads = threads_for(n);
   per_thread_.resize(static_cast<std::size_t>(threads));
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = thread_index();
+  for_each_thread(threads, [&](int t) {
     auto& local = per_thread_[static_cast<std::size_t>(t)];
     local.clear();
     const auto [begin, end] = static_range(n, t, threads);
@@ -96,7 +94,7 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
       std::sort(found.begin(), found.end());
       for (std::uint32_t j : found) local.push_back({static_cast<std::uint32_t>(i), j});
     }
-  }
+  });
   for (const auto& local : per_thread_) out.insert(out.end(), local.begin(), local.end());
 }
 
