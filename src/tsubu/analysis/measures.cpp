@@ -33,7 +33,8 @@ double solid_fraction(const World& w, double a, double b) {
 double coordination(const World& w, double a, double b, bool without_rattlers) {
   const Particles& p = w.particles;
   std::vector<int> z(p.size(), 0);
-  for (const Contact& c : w.pair_contacts) ++z[c.i], ++z[c.j];
+  for (const Contact& c : w.pair_contacts)
+    if (c.touching) ++z[c.i], ++z[c.j];
   long contacts = 0, particles = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double h = p.position[i].z;

@@ -1,5 +1,6 @@
 #include "tsubu/contact/force_field.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -20,6 +21,7 @@ void carry_history(const std::vector<Pair>& found, const std::vector<Contact>& o
     while (o < old.size() && (old[o].i < f.i || (old[o].i == f.i && old[o].j < f.j))) ++o;
     out[k].i = f.i;
     out[k].j = f.j;
+    out[k].touching = false;
     out[k].history = (o < old.size() && old[o].i == f.i && old[o].j == f.j) ? old[o].history : ContactHistory{};
   }
 }
@@ -51,15 +53,33 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
 }  // namespace
 
 void ForceField::compute(World& world) {
-  grid_.find_pairs(world.particles, world.domain, 0.0, candidates_);
+  if (needs_rebuild(world)) rebuild(world);
+  evaluate_pairs(world);
+  evaluate_walls(world);
+  accumulate(world);
+}
+
+bool ForceField::needs_rebuild(const World& world) const {
+  const Particles& p = world.particles;
+  if (built_at_.size() != p.size()) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (norm2(world.domain.separation(p.position[i], built_at_[i])) > limit2) return true;
+  return false;
+}
+
+void ForceField::rebuild(World& world) {
+  const Particles& p = world.particles;
+  skin_ = world.skin;
+  if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  grid_.find_pairs(p, world.domain, skin_, candidates_);
   carry_history(candidates_, world.pair_contacts, next_);
   world.pair_contacts.swap(next_);
   find_wall_contacts(world, candidates_);
   carry_history(candidates_, world.wall_contacts, next_);
   world.wall_contacts.swap(next_);
-  evaluate_pairs(world);
-  evaluate_walls(world);
-  accumulate(world);
+  built_at_ = p.position;
+  ++rebuilds_;
 }
 
 void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) {
@@ -74,9 +94,9 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
     const auto [begin, end] = static_range(p.size(), t, threads);
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Touching from the front side only: a centre behind the plane has tunnelled through.
+        // Within the skin on the front side; see evaluate_walls for the back side.
         const double dist = world.walls[w].distance(p.position[i]);
-        if (dist < p.radius[i] && dist > -p.radius[i])
+        if (dist < p.radius[i] + skin_ && dist > -p.radius[i] - skin_)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
   });
@@ -95,8 +115,14 @@ void ForceField::evaluate_pairs(World& world) {
     Contact& c = contacts[k];
     const std::size_t i = c.i, j = c.j;
     const Vec3 d = world.domain.separation(p.position[i], p.position[j]);
-    const double dist = norm(d);
     const double ri = p.radius[i], rj = p.radius[j];
+    const double dist2 = norm2(d);
+    c.touching = dist2 < (ri + rj) * (ri + rj);
+    if (!c.touching) {
+      c.history = {};
+      return;
+    }
+    const double dist = std::sqrt(dist2);
     ContactGeometry g;
     g.n = d / dist;
     g.delta = ri + rj - dist;
@@ -127,9 +153,16 @@ void ForceField::evaluate_walls(World& world) {
     const std::size_t i = c.i;
     const Wall& wall = world.walls[c.j];
     const double ri = p.radius[i];
+    const double dist = wall.distance(p.position[i]);
+    // Touching from the front side only: a centre behind the plane has tunnelled through.
+    c.touching = dist < ri && dist > -ri;
+    if (!c.touching) {
+      c.history = {};
+      return;
+    }
     ContactGeometry g;
     g.n = wall.normal;
-    g.delta = ri - wall.distance(p.position[i]);
+    g.delta = ri - dist;
     const double arm_i = ri - 0.5 * g.delta;
     const Vec3 v_rel = p.velocity[i] + cross(p.omega[i], -arm_i * g.n);
     g.v_n = dot(v_rel, g.n);
@@ -156,6 +189,8 @@ void ForceField::accumulate(World& world) {
   const Contact* worst = nullptr;
   bool worst_is_wall = false;
   auto add = [&](const Contact& c, const Result& r, bool wall) {
+    if (!c.touching) return;
+    ++totals.contacts;
     p.force[c.i] += r.force_i;
     p.torque[c.i] += r.torque_i;
     ++p.contact_count[c.i];
@@ -174,7 +209,6 @@ void ForceField::accumulate(World& world) {
   };
   for (std::size_t k = 0; k < world.pair_contacts.size(); ++k) add(world.pair_contacts[k], pair_results_[k], false);
   for (std::size_t k = 0; k < world.wall_contacts.size(); ++k) add(world.wall_contacts[k], wall_results_[k], true);
-  totals.contacts = world.pair_contacts.size() + world.wall_contacts.size();
   evaluations_ += totals.contacts;
   totals_ = totals;
   if (worst && !(totals.max_overlap_ratio <= world.overlap_limit)) {

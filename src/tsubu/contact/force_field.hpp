@@ -15,15 +15,19 @@ struct ContactTotals {
   double max_overlap_ratio = 0;     // largest overlap / smaller diameter
 };
 
+// Neighbour lists (pairs and walls within `skin` of touching) are rebuilt, carrying every
+// history over, once some particle has moved more than skin/2 since the last build; in
+// between, each step only evaluates the listed pairs.
 class ForceField {
  public:
-  // Finds contacts, carries their history over, evaluates every contact and sums the
-  // forces and torques into world.particles. Throws NumericalError when an overlap
-  // exceeds world.overlap_limit or a force is not finite.
+  // Evaluates every touching contact and sums forces and torques (with gravity) into
+  // world.particles. Throws NumericalError when an overlap exceeds world.overlap_limit or
+  // a force is not finite.
   void compute(World& world);
 
   const ContactTotals& totals() const { return totals_; }
-  std::uint64_t evaluations() const { return evaluations_; }
+  std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
+  std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
 
  private:
   struct Result {
@@ -35,9 +39,13 @@ class ForceField {
   std::vector<Contact> next_;
   std::vector<Result> pair_results_, wall_results_;
   std::vector<std::vector<Pair>> wall_hits_;
+  std::vector<Vec3> built_at_;  // positions at the last build
+  double skin_ = 0;
   ContactTotals totals_;
-  std::uint64_t evaluations_ = 0;
+  std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
+  bool needs_rebuild(const World& world) const;
+  void rebuild(World& world);
   void find_wall_contacts(const World& world, std::vector<Pair>& out);
   void evaluate_pairs(World& world);
   void evaluate_walls(World& world);

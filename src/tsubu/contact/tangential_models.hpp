@@ -64,7 +64,8 @@ struct MindlinSlip {
       len = xi_max;
     }
     if (len > 0 && xi_max > 0) {
-      const double chi = 1.0 - std::pow(1.0 - len / xi_max, 1.5);
+      const double free = 1.0 - len / xi_max;
+      const double chi = 1.0 - free * std::sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
       f_t -= (mu * chi * std::abs(fn.f) / len) * xi;
     }
     return f_t;

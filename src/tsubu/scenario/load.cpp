@@ -48,8 +48,10 @@ void apply_override(toml::table& root, const std::string& text) {
       if (!t->contains(parts[k])) t->insert(parts[k], toml::table{});
       node = t->get(parts[k]);
     } else if (auto* a = node->as_array()) {
+      if (parts[k].empty() || parts[k].find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(origin, 1, path, "'" + parts[k] + "' must be an entry number (0, 1, ...) of this array of tables");
       const std::size_t idx = static_cast<std::size_t>(std::strtoul(parts[k].c_str(), nullptr, 10));
-      if (idx >= a->size()) throw InputError(origin, 1, path, "no entry " + parts[k] + " in this array");
+      if (idx >= a->size()) throw InputError(origin, 1, path, "no entry " + parts[k] + " in this array (it has " + std::to_string(a->size()) + ")");
       node = a->get(idx);
     } else {
       throw InputError(origin, 1, path, "'" + parts[k] + "' is not a table or array");

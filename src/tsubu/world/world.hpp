@@ -9,10 +9,13 @@
 
 namespace tsubu {
 
-// A live contact and its history. For particle pairs `j` is the partner (i < j); for walls
-// it is the wall index. Lists are kept sorted by (i, j).
+// An entry of the neighbour list: a pair closer than the skin, with its contact history
+// kept beside it. For particle pairs `j` is the partner (i < j); for walls it is the wall
+// index. Lists are sorted by (i, j). `touching` says whether the pair overlaps now; the
+// history of a pair that does not is empty.
 struct Contact {
   std::uint32_t i, j;
+  bool touching = false;
   ContactHistory history;
 };
 
@@ -27,6 +30,7 @@ struct World {
   double time = 0;         // s
   std::int64_t step = 0;
   double overlap_limit = 0.1;  // largest overlap / smaller diameter before the run stops
+  double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
   std::vector<Contact> pair_contacts;
   std::vector<Contact> wall_contacts;
 };

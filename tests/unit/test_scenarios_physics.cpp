@@ -1,0 +1,64 @@
+// Whole-engine tests on scenario files: a settled bed's packing, and thread-count agreement.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "tsubu/analysis/measures.hpp"
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+namespace {
+
+World run(const std::string& name, int threads, std::int64_t steps = -1) {
+  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name);
+  omp_set_num_threads(threads);
+  World w = build_world(sc);
+  ForceField f;
+  f.compute(w);
+  if (steps < 0) steps = std::llround(sc.duration / sc.dt);
+  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
+  omp_set_num_threads(1);
+  return w;
+}
+
+// A poured monodisperse bed with friction 0.5 packs between random loose (0.55) and random
+// close (0.64) packing, with 4 to 6 contacts per non-rattler, away from the floor and the
+// loose top (4 diameters from each).
+TEST(SettledBed, MonodisperseSolidFractionBetweenLooseAndClosePacking) {
+  const World w = run("settle_mono.toml", 1);
+  const double d = 0.002;
+  double top = 0;
+  for (const Vec3& x : w.particles.position) top = std::max(top, x.z);
+  ASSERT_GT(top, 12 * d) << "the bed should be deep enough to measure";
+  const double phi = solid_fraction(w, 4 * d, top - 4 * d);
+  const double z = coordination(w, 4 * d, top - 4 * d, true);
+  EXPECT_GE(phi, 0.55);
+  EXPECT_LE(phi, 0.64);
+  EXPECT_GE(z, 4.0);
+  EXPECT_LE(z, 6.0);
+  ::testing::Test::RecordProperty("solid_fraction", std::to_string(phi));
+  ::testing::Test::RecordProperty("coordination_no_rattlers", std::to_string(z));
+}
+
+bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+// The force sums are accumulated serially in contact order, so 1 and 2 threads give the same
+// bits, not just agreement to round-off.
+TEST(Threads, OneAndTwoThreadsGiveIdenticalBits) {
+  const World one = run("lattice_threads.toml", 1);
+  const World two = run("lattice_threads.toml", 2);
+  ASSERT_GT(one.pair_contacts.size(), 4096u) << "the parallel contact loop must be exercised";
+  EXPECT_TRUE(same_bits(one.particles.position, two.particles.position));
+  EXPECT_TRUE(same_bits(one.particles.velocity, two.particles.velocity));
+  EXPECT_TRUE(same_bits(one.particles.omega, two.particles.omega));
+  const World again = run("lattice_threads.toml", 2);
+  EXPECT_TRUE(same_bits(two.particles.position, again.particles.position));
+}
+
+}  // namespace
+}  // namespace tsubu
