@@ -50,7 +50,7 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
       std::ostringstream s;
       s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
         << " of the smaller diameter; allowed up to " << std::min(tolerance[pr.i], tolerance[pr.j])
-        << " (particles.overlap_tolerance)";
+        << " (overlap_tolerance of csv sources; lattice and random particles may only touch)";
       fail_at(a.where, s.str());
     }
   }

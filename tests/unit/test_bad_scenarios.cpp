@@ -1,0 +1,105 @@
+// Every scenario in tests/bad_scenarios/ must be refused by `tsubu check` with exit code 2
+// and the message its first line announces:
+//   # expect: <file>:<line>: <key>: <phrase>
+// (<file> is the scenario or the CSV file it reads; the key is absent for TOML syntax errors
+// and for CSV rows with the wrong number of columns.)
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kBadDir = fs::path(TSUBU_SOURCE_DIR) / "tests" / "bad_scenarios";
+const fs::path kValid = fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "valid_small.toml";
+const std::string kExpectPrefix = "# expect: ";
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::string err;  // stderr; stdout is discarded
+};
+
+Outcome run_tsubu(const std::vector<std::string>& args) {
+  std::string cmd = shell_quote(TSUBU_BINARY);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " 2>&1 1>/dev/null";
+  Outcome o;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return o;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) o.err.append(buf, n);
+  const int status = pclose(pipe);
+  if (status != -1 && WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
+  return o;
+}
+
+std::vector<std::string> bad_scenarios() {
+  std::vector<std::string> names;
+  if (fs::is_directory(kBadDir))
+    for (const auto& e : fs::directory_iterator(kBadDir))
+      if (e.path().extension() == ".toml") names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class BadScenario : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BadScenario, IsRefusedWithTheExpectedMessage) {
+  const fs::path file = kBadDir / GetParam();
+  std::ifstream in(file);
+  std::string first;
+  std::getline(in, first);
+  ASSERT_EQ(first.rfind(kExpectPrefix, 0), 0u) << file << ": the first line must be '" << kExpectPrefix << "...'";
+  const std::string expect = first.substr(kExpectPrefix.size());
+  std::smatch m;
+  ASSERT_TRUE(std::regex_match(expect, m, std::regex(R"(([^:/]+\.(toml|csv)):([0-9]+): (.+))")))
+      << file << ": expected '# expect: <file>:<line>: <key>: <phrase>', got '" << expect << "'";
+  ASSERT_GT(std::stol(m[3].str()), 0) << "line 0 is not a location";
+
+  const Outcome o = run_tsubu({"check", file.string()});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  // The binary names files by their full path; the leading '/' anchors the file name.
+  const std::string location = "/" + m[1].str() + ":" + m[3].str() + ": ";
+  EXPECT_NE(o.err.find(location), std::string::npos) << "wrong file or line; expected " << location << "\ngot: " << o.err;
+  EXPECT_NE(o.err.find("/" + expect), std::string::npos) << "expected: " << expect << "\ngot:      " << o.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, BadScenario, ::testing::ValuesIn(bad_scenarios()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name = fs::path(info.param).stem().string();
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+TEST(BadScenarioSet, HoldsAtLeastFifteenFiles) {
+  EXPECT_GE(bad_scenarios().size(), 15u) << "in " << kBadDir;
+}
+
+TEST(BadScenarioCli, ValidScenarioPassesCheck) {
+  const Outcome o = run_tsubu({"check", kValid.string()});
+  EXPECT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_EQ(o.err, "");
+}
+
+TEST(BadScenarioCli, OverrideOfWrongTypeNamesTheOverrideAndKey) {
+  const Outcome o = run_tsubu({"check", kValid.string(), "--set", "simulation.dt=\"abc\""});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find("--set simulation.dt=\"abc\":1: simulation.dt: must be a number"), std::string::npos) << o.err;
+}
+
+}  // namespace
