@@ -29,12 +29,12 @@ ImpactRecord record_impact(World& w, bool wall) {
   int steps_in_contact = 0;
   for (int s = 0; s < 10000000; ++s) {
     velocity_verlet_step(w, f);
-    const bool touching = f.totals().contacts > 0;
+    const bool touching = f.totals(w).contacts > 0;
     if (touching) {
       touched = true;
       ++steps_in_contact;
       r.peak_force = std::max(r.peak_force, std::abs(p.force[0].x) + std::abs(p.force[0].z));
-      r.max_overlap = std::max(r.max_overlap, f.totals().max_overlap_ratio * 2 * p.radius[0]);
+      r.max_overlap = std::max(r.max_overlap, f.totals(w).max_overlap_ratio * 2 * p.radius[0]);
     } else if (touched) {
       break;
     }

@@ -36,7 +36,7 @@ BounceResult bounce(double dt, int n_bounces) {
   const double m = p.mass[0], e0 = m * 9.81 * h;
   auto energy = [&] {
     const Energies e = energies(w);
-    return e.kinetic_translational + e.kinetic_rotational + e.potential_gravity - m * 9.81 * r + f.totals().elastic_energy;
+    return e.kinetic_translational + e.kinetic_rotational + e.potential_gravity - m * 9.81 * r + f.totals(w).elastic_energy;
   };
   BounceResult out;
   bool in_contact = false;
@@ -45,7 +45,7 @@ BounceResult bounce(double dt, int n_bounces) {
     velocity_verlet_step(w, f);
     const double error = std::abs(energy() - e0) / e0;
     out.worst_anytime = std::max(out.worst_anytime, error);
-    const bool touching = f.totals().contacts > 0;
+    const bool touching = f.totals(w).contacts > 0;
     if (in_contact && !touching) ++out.bounces;
     in_contact = touching;
     if (previous_vz > 0 && p.velocity[0].z <= 0) out.worst_apex = std::max(out.worst_apex, error);

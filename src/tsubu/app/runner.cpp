@@ -72,7 +72,7 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   int frame = 0;
   auto write_series = [&] {
     const Energies e = energies(world);
-    const ContactTotals& c = forces.totals();
+    const ContactTotals c = forces.totals(world);
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
            << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio << '\n';
   };

@@ -52,6 +52,14 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
 
 }  // namespace
 
+void ForceField::Results::resize(std::size_t n) {
+  force_i.resize(n);
+  torque_i.resize(n);
+  torque_j.resize(n);
+  energy.resize(n);
+  overlap_ratio.resize(n);
+}
+
 void ForceField::compute(World& world) {
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
@@ -79,6 +87,7 @@ void ForceField::rebuild(World& world) {
   carry_history(candidates_, world.wall_contacts, next_);
   world.wall_contacts.swap(next_);
   built_at_ = p.position;
+  index_contacts(world);
   ++rebuilds_;
 }
 
@@ -94,9 +103,9 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
     const auto [begin, end] = static_range(p.size(), t, threads);
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Within the skin on the front side; see evaluate_walls for the back side.
+        // Centres in front of the plane (see evaluate_walls) and within the skin of touching.
         const double dist = world.walls[w].distance(p.position[i]);
-        if (dist < p.radius[i] + skin_ && dist > -p.radius[i] - skin_)
+        if (dist < p.radius[i] + skin_ && dist > -skin_)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
   });
@@ -120,6 +129,7 @@ void ForceField::evaluate_pairs(World& world) {
     c.touching = dist2 < (ri + rj) * (ri + rj);
     if (!c.touching) {
       c.history = {};
+      pair_results_.set(k, {}, {}, {}, 0, 0);
       return;
     }
     const double dist = std::sqrt(dist2);
@@ -136,7 +146,7 @@ void ForceField::evaluate_pairs(World& world) {
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
     const Vec3 n_x_ft = cross(g.n, f.tangential);
-    pair_results_[k] = {f.total, -arm_i * n_x_ft, -arm_j * n_x_ft, f.energy, g.delta / (2.0 * std::min(ri, rj))};
+    pair_results_.set(k, f.total, -arm_i * n_x_ft, -arm_j * n_x_ft, f.energy, g.delta / (2.0 * std::min(ri, rj)));
   });
 }
 
@@ -154,10 +164,12 @@ void ForceField::evaluate_walls(World& world) {
     const Wall& wall = world.walls[c.j];
     const double ri = p.radius[i];
     const double dist = wall.distance(p.position[i]);
-    // Touching from the front side only: a centre behind the plane has tunnelled through.
-    c.touching = dist < ri && dist > -ri;
+    // Touching from the front side only: a centre behind the plane has tunnelled through
+    // and feels no force from it.
+    c.touching = dist < ri && dist > 0;
     if (!c.touching) {
       c.history = {};
+      wall_results_.set(k, {}, {}, {}, 0, 0);
       return;
     }
     ContactGeometry g;
@@ -172,54 +184,125 @@ void ForceField::evaluate_walls(World& world) {
     g.d_mean = 2.0 * ri;
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
-    wall_results_[k] = {f.total, -arm_i * cross(g.n, f.tangential), {}, f.energy, g.delta / (2.0 * ri)};
+    wall_results_.set(k, f.total, -arm_i * cross(g.n, f.tangential), {}, f.energy, g.delta / (2.0 * ri));
   });
+}
+
+void ForceField::index_contacts(const World& world) {
+  const std::size_t n = world.particles.size();
+  pair_start_.assign(n + 1, 0);
+  for (const Contact& c : world.pair_contacts) ++pair_start_[c.i + 1], ++pair_start_[c.j + 1];
+  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
+  pair_index_.resize(pair_start_[n]);
+  std::vector<std::uint32_t> fill(pair_start_.begin(), pair_start_.end() - 1);
+  for (std::uint32_t k = 0; k < world.pair_contacts.size(); ++k) {
+    const Contact& c = world.pair_contacts[k];
+    pair_index_[fill[c.i]++] = k;
+    pair_index_[fill[c.j]++] = k;
+  }
+  wall_start_.assign(n + 1, 0);
+  for (const Contact& c : world.wall_contacts) ++wall_start_[c.i + 1];
+  for (std::size_t i = 0; i < n; ++i) wall_start_[i + 1] += wall_start_[i];
 }
 
 void ForceField::accumulate(World& world) {
   Particles& p = world.particles;
-  const std::size_t n = p.size();
-  parallel_for(n, [&](std::size_t i) {
-    p.force[i] = p.mass[i] * world.gravity;
-    p.torque[i] = {};
-    p.contact_count[i] = 0;
-  });
-  // Serial, in contact order: the sums are the same bits for every thread count.
-  ContactTotals totals;
-  const Contact* worst = nullptr;
-  bool worst_is_wall = false;
-  auto add = [&](const Contact& c, const Result& r, bool wall) {
-    if (!c.touching) return;
-    ++totals.contacts;
-    p.force[c.i] += r.force_i;
-    p.torque[c.i] += r.torque_i;
-    ++p.contact_count[c.i];
-    if (!wall) {
-      p.force[c.j] -= r.force_i;
-      p.torque[c.j] += r.torque_j;
-      ++p.contact_count[c.j];
+  const auto& pairs = world.pair_contacts;
+  // Each particle gathers its own contacts in ascending contact order, so the sums are the
+  // same bits for every thread count (and no two threads write the same particle).
+  const int threads = threads_for(p.size());
+  std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
+  std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);
+  for_each_thread(threads, [&](int t) {
+    const auto [begin, end] = static_range(p.size(), t, threads);
+    double local_worst = 0;
+    std::uint64_t local_touching = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      Vec3 force = p.mass[i] * world.gravity, torque;
+      int count = 0;
+      const Results& pr = pair_results_;
+      for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {
+        const std::uint32_t k = pair_index_[s];
+        const double ratio = pr.overlap_ratio[k];
+        if (!(ratio > 0)) continue;
+        if (pairs[k].i == i) {
+          force += pr.force_i[k];
+          torque += pr.torque_i[k];
+          ++local_touching;  // each pair once, from its first particle
+        } else {
+          force -= pr.force_i[k];
+          torque += pr.torque_j[k];
+        }
+        ++count;
+        local_worst = std::max(local_worst, ratio);
+      }
+      const Results& wr = wall_results_;
+      for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
+        const double ratio = wr.overlap_ratio[k];
+        if (!(ratio > 0)) continue;
+        force += wr.force_i[k];
+        torque += wr.torque_i[k];
+        ++count;
+        ++local_touching;
+        local_worst = std::max(local_worst, ratio);
+      }
+      if (!std::isfinite(force.x + force.y + force.z)) local_worst = INFINITY;
+      p.force[i] = force;
+      p.torque[i] = torque;
+      p.contact_count[i] = count;
     }
-    totals.elastic_energy += r.energy;
-    if (r.overlap_ratio > totals.max_overlap_ratio || !std::isfinite(r.force_i.x + r.force_i.y + r.force_i.z)) {
-      totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, r.overlap_ratio);
-      worst = &c;
-      worst_is_wall = wall;
-      if (!std::isfinite(r.force_i.x + r.force_i.y + r.force_i.z)) totals.max_overlap_ratio = INFINITY;
+    worst[static_cast<std::size_t>(t)] = local_worst;
+    touching[static_cast<std::size_t>(t)] = local_touching;
+  });
+  for (std::uint64_t c : touching) evaluations_ += c;
+  const double max_ratio = *std::max_element(worst.begin(), worst.end());
+  if (!(max_ratio <= world.overlap_limit)) report_overlap(world);
+}
+
+ContactTotals ForceField::totals(const World& world) const {
+  ContactTotals totals;
+  auto add = [&](const std::vector<Contact>& contacts, const Results& results) {
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      if (!contacts[k].touching) continue;
+      ++totals.contacts;
+      totals.elastic_energy += results.energy[k];
+      totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, results.overlap_ratio[k]);
     }
   };
-  for (std::size_t k = 0; k < world.pair_contacts.size(); ++k) add(world.pair_contacts[k], pair_results_[k], false);
-  for (std::size_t k = 0; k < world.wall_contacts.size(); ++k) add(world.wall_contacts[k], wall_results_[k], true);
-  evaluations_ += totals.contacts;
-  totals_ = totals;
-  if (worst && !(totals.max_overlap_ratio <= world.overlap_limit)) {
-    std::ostringstream msg;
-    msg << "step " << world.step << ", t = " << world.time << " s: contact between particle id "
-        << p.id[worst->i] << " and " << (worst_is_wall ? "wall " + std::to_string(worst->j) : "particle id " + std::to_string(p.id[worst->j]))
-        << " has overlap/diameter " << totals.max_overlap_ratio << " (limit " << world.overlap_limit
-        << ", simulation.overlap_limit); the time step " << world.dt
-        << " s is probably too large for this stiffness and impact speed: try dt/4";
-    throw NumericalError(msg.str());
+  add(world.pair_contacts, pair_results_);
+  add(world.wall_contacts, wall_results_);
+  return totals;
+}
+
+void ForceField::report_overlap(const World& world) const {
+  const Particles& p = world.particles;
+  const Contact* worst = nullptr;
+  bool wall = false;
+  double ratio = -1;
+  auto scan = [&](const std::vector<Contact>& contacts, const Results& results, bool is_wall) {
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const Vec3& f = results.force_i[k];
+      const double r = std::isfinite(f.x + f.y + f.z) ? results.overlap_ratio[k] : INFINITY;
+      if (contacts[k].touching && !(r <= ratio)) ratio = r, worst = &contacts[k], wall = is_wall;
+    }
+  };
+  scan(world.pair_contacts, pair_results_, false);
+  scan(world.wall_contacts, wall_results_, true);
+  std::ostringstream msg;
+  msg << "step " << world.step << ", t = " << world.time << " s: ";
+  if (worst) {
+    const std::size_t a = worst->i, b = worst->j;
+    const int mat_b = wall ? world.walls[b].material : p.material[b];
+    msg << "contact between particle id " << p.id[a] << " and "
+        << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model "
+        << std::visit([](const auto& m) { return m.name; }, world.laws.at(p.material[a], mat_b).normal)
+        << ") has overlap/diameter " << ratio;
+  } else {
+    msg << "a particle force is not finite";
   }
+  msg << " (limit " << world.overlap_limit << ", simulation.overlap_limit); the time step " << world.dt
+      << " s is probably too large for this stiffness and impact speed: try dt/4";
+  throw NumericalError(msg.str());
 }
 
 }  // namespace tsubu

@@ -25,23 +25,31 @@ class ForceField {
   // a force is not finite.
   void compute(World& world);
 
-  const ContactTotals& totals() const { return totals_; }
+  // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
+  // contacts: call it for output, not every step).
+  ContactTotals totals(const World& world) const;
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
 
  private:
-  struct Result {
-    Vec3 force_i, torque_i, torque_j;
-    double energy, overlap_ratio;
+  // Per-contact results, one array per quantity (zeros for pairs that do not touch);
+  // overlap_ratio > 0 marks a touching contact.
+  struct Results {
+    std::vector<Vec3> force_i, torque_i, torque_j;
+    std::vector<double> energy, overlap_ratio;
+    void resize(std::size_t n);
+    void set(std::size_t k, const Vec3& f, const Vec3& ti, const Vec3& tj, double e, double ratio) {
+      force_i[k] = f, torque_i[k] = ti, torque_j[k] = tj, energy[k] = e, overlap_ratio[k] = ratio;
+    }
   };
   CellGrid grid_;
   std::vector<Pair> candidates_;
   std::vector<Contact> next_;
-  std::vector<Result> pair_results_, wall_results_;
+  Results pair_results_, wall_results_;
   std::vector<std::vector<Pair>> wall_hits_;
   std::vector<Vec3> built_at_;  // positions at the last build
   double skin_ = 0;
-  ContactTotals totals_;
+  std::vector<std::uint32_t> pair_start_, pair_index_, wall_start_;  // contacts of each particle
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
   bool needs_rebuild(const World& world) const;
@@ -49,7 +57,9 @@ class ForceField {
   void find_wall_contacts(const World& world, std::vector<Pair>& out);
   void evaluate_pairs(World& world);
   void evaluate_walls(World& world);
+  void index_contacts(const World& world);
   void accumulate(World& world);
+  [[noreturn]] void report_overlap(const World& world) const;
 };
 
 }  // namespace tsubu

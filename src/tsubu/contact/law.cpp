@@ -14,16 +14,6 @@ double effective_shear_modulus(const Material& a, const Material& b) {
   return 1.0 / (term(a) + term(b));
 }
 
-namespace {
-
-// k_n of model C from a target contact time t_c = pi / sqrt(k/m - (eta/2m)^2) with
-// eta = 2 beta sqrt(m k): t_c = pi / sqrt(k/m (1 - beta^2)).
-double stiffness_from_contact_time(double t_c, double m, double beta) {
-  return m * M_PI * M_PI / (t_c * t_c * (1 - beta * beta));
-}
-
-}  // namespace
-
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {
   const double e_star = effective_modulus(a, b);
   const double nu = 0.5 * (a.poisson + b.poisson);
@@ -31,9 +21,7 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
   PairLaw law;
   double tangential_damping = 1.0;  // eta_t / eta_n
   if (spec.normal == "linear") {
-    const double k = spec.stiffness > 0 ? spec.stiffness
-                                        : stiffness_from_contact_time(spec.contact_time, spec.reference_mass, beta);
-    law.normal = LinearDashpot{k, beta};
+    law.normal = LinearDashpot{spec.stiffness, beta};
   } else if (spec.normal == "hertz_tsuji") {
     law.normal = HertzTsuji{e_star, HertzTsuji::alpha_of(spec.restitution)};
   } else if (spec.normal == "hertz_sediment") {

@@ -41,9 +41,7 @@ struct ContactSpec {
   std::string tangential = "mindlin";  // none | linear_coulomb | mindlin
   double restitution = 1.0;            // e in (0, 1]
   double friction = 0.0;               // mu
-  double stiffness = 0.0;              // k_n for linear, N/m (0: derive from contact_time)
-  double contact_time = 0.0;           // t_c for linear, s, with the reference mass below
-  double reference_mass = 0.0;         // m* used with contact_time, kg
+  double stiffness = 0.0;              // k_n for linear, N/m
   double alpha = 0.2;                  // dashpot constant of hertz_sediment
   double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu))
 };

@@ -17,6 +17,7 @@ inline double damping_ratio(double e) {
 // Model C, linear spring-dashpot (Cundall & Strack 1979):
 // F_n = k_n delta - eta_n v_n, eta_n = 2 beta sqrt(m* k_n).
 struct LinearDashpot {
+  static constexpr const char* name = "linear (C)";
   double k_n = 0;   // N/m
   double beta = 0;  // damping ratio from the restitution
 
@@ -29,6 +30,7 @@ struct LinearDashpot {
 // Model T, Hertz with Tsuji damping (Tsuji, Tanaka & Ishida 1992):
 // F_n = K delta^{3/2} - alpha sqrt(m* K) delta^{1/4} v_n, K = 4/3 E* sqrt(R*).
 struct HertzTsuji {
+  static constexpr const char* name = "hertz_tsuji (T)";
   double e_star = 0;  // effective modulus E*, Pa
   double alpha = 0;   // alpha(e) = sqrt(5) |ln e| / sqrt(ln^2 e + pi^2)
 
@@ -47,6 +49,7 @@ struct HertzTsuji {
 // Model H, Hertz with a constant dashpot as used for sediment (Sota & Watanabe Eqs. 9-14):
 // F_n = K delta^{3/2} - eta_n v_n, eta_n = alpha sqrt(K m* dbar^{1/2}).
 struct HertzSediment {
+  static constexpr const char* name = "hertz_sediment (H)";
   double e_star = 0;  // Pa
   double alpha = 0;   // paper Table 1: 0.2
 

@@ -14,11 +14,16 @@ struct Domain {
 
   double length(int k) const { return upper[k] - lower[k]; }
 
-  // Shortest vector from b to a under the periodic axes.
+  // Shortest vector from b to a under the periodic axes, for positions inside the box
+  // (their difference is below one box length, so one shift is enough).
   Vec3 separation(const Vec3& a, const Vec3& b) const {
     Vec3 d = a - b;
     for (int k = 0; k < 3; ++k)
-      if (periodic[k]) d[k] -= length(k) * std::nearbyint(d[k] / length(k));
+      if (periodic[k]) {
+        const double L = length(k);
+        if (d[k] > 0.5 * L) d[k] -= L;
+        else if (d[k] < -0.5 * L) d[k] += L;
+      }
     return d;
   }
 
