@@ -97,6 +97,7 @@ void read_simulation(Section s, Scenario& sc) {
   sc.seed = static_cast<std::uint64_t>(seed);
   sc.overlap_limit = s.positive("overlap_limit", 0.1);
   if (sc.overlap_limit >= 1) s.fail("overlap_limit", "is a fraction of the smaller diameter: allowed (0, 1)" + got(sc.overlap_limit));
+  sc.skin = s.has("skin") ? s.positive("skin") : 0.0;
   s.finish();
 }
 

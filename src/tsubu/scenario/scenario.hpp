@@ -60,6 +60,7 @@ struct Scenario {
   Vec3 gravity{0, 0, -9.81};
   std::uint64_t seed = 1;
   double overlap_limit = 0.1;
+  double skin = 0;  // m, neighbour-list margin; 0: a tenth of the smallest diameter
   Domain domain;
   SourceLocation domain_where;  // the [domain] table, for checks made once the particles exist
   std::vector<Material> materials;

@@ -66,6 +66,7 @@ World build_world(const Scenario& sc) {
   w.gravity = sc.gravity;
   w.dt = sc.dt;
   w.overlap_limit = sc.overlap_limit;
+  w.skin = sc.skin;
   w.laws = build_laws(sc);
 
   Random rng(sc.seed);
