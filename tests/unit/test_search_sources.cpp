@@ -1,0 +1,103 @@
+// Contact search against brute force; particle sources and packing measures.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tsubu/analysis/measures.hpp"
+#include "tsubu/search/pair_search.hpp"
+#include "tsubu/source/size_distribution.hpp"
+
+namespace tsubu {
+namespace {
+
+std::vector<Pair> brute_force(const Particles& p, const Domain& d, double margin) {
+  std::vector<Pair> out;
+  for (std::uint32_t i = 0; i < p.size(); ++i)
+    for (std::uint32_t j = i + 1; j < p.size(); ++j) {
+      const double reach = p.radius[i] + p.radius[j] + margin;
+      if (norm2(d.separation(p.position[i], p.position[j])) < reach * reach) out.push_back({i, j});
+    }
+  return out;
+}
+
+class CellGridVsBruteForce : public ::testing::TestWithParam<std::tuple<double, bool>> {};
+
+TEST_P(CellGridVsBruteForce, SamePairsInTheSameOrder) {
+  const auto [size_ratio, periodic] = GetParam();
+  Domain d{{0, 0, 0}, {1, 0.8, 0.6}, {periodic, periodic, false}};
+  Random rng(42);
+  Particles p;
+  const double d_max = 0.1;
+  for (int k = 0; k < 1500; ++k) {
+    const double diameter = d_max * std::pow(1 / size_ratio, rng.uniform());  // log-uniform
+    p.add(k, 0, diameter, 1, {rng.uniform(0, 1), rng.uniform(0, 0.8), rng.uniform(0, 0.6)}, {});
+  }
+  CellGrid grid;
+  for (double margin : {0.0, 0.01}) {
+    std::vector<Pair> found;
+    grid.find_pairs(p, d, margin, found);
+    const std::vector<Pair> expected = brute_force(p, d, margin);
+    ASSERT_EQ(found.size(), expected.size()) << "size ratio " << size_ratio << ", margin " << margin;
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      EXPECT_EQ(found[k].i, expected[k].i);
+      EXPECT_EQ(found[k].j, expected[k].j);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SizeRatios, CellGridVsBruteForce,
+                         ::testing::Combine(::testing::Values(1.0, 3.0, 10.0), ::testing::Bool()));
+
+TEST(SizeDistribution, TalbotSamplesFollowTheNumberDensity) {
+  // n(d) ∝ d^{S-3} on [d_min, d_max]: the fraction below the geometric midpoint d_g is
+  // (d_g^{S-2} - d_min^{S-2}) / (d_max^{S-2} - d_min^{S-2}); for S = 2 it is 1/2.
+  for (double S : {0.0, 1.0, 2.0}) {
+    SizeDistribution dist;
+    dist.kind = SizeDistribution::Kind::talbot;
+    dist.d_min = 1e-3;
+    dist.d_max = 1e-2;
+    dist.exponent = S;
+    Random rng(1);
+    const double dg = std::sqrt(dist.d_min * dist.d_max);
+    const int n = 200000;
+    int below = 0;
+    for (int k = 0; k < n; ++k) {
+      const double d = dist.sample(rng);
+      ASSERT_GE(d, dist.d_min);
+      ASSERT_LE(d, dist.d_max);
+      below += d < dg;
+    }
+    const double k = S - 2;
+    const double expected = S == 2 ? 0.5 : (std::pow(dg, k) - std::pow(dist.d_min, k)) / (std::pow(dist.d_max, k) - std::pow(dist.d_min, k));
+    const double sigma = std::sqrt(expected * (1 - expected) / n);  // binomial standard error
+    EXPECT_NEAR(static_cast<double>(below) / n, expected, 5 * sigma) << "S = " << S;
+  }
+}
+
+TEST(SizeDistribution, LognormalMedianAndBounds) {
+  SizeDistribution dist;
+  dist.kind = SizeDistribution::Kind::lognormal;
+  dist.median = 2e-3;
+  dist.sigma = 0.3;
+  dist.d_min = 1e-3;
+  dist.d_max = 4e-3;
+  Random rng(5);
+  std::vector<double> d(100001);
+  for (double& x : d) x = dist.sample(rng);
+  std::nth_element(d.begin(), d.begin() + 50000, d.end());
+  EXPECT_NEAR(d[50000], 2e-3, 2e-3 * 0.01);  // the truncation is symmetric in ln d
+  EXPECT_GE(*std::min_element(d.begin(), d.end()), 1e-3);
+  EXPECT_LE(*std::max_element(d.begin(), d.end()), 4e-3);
+}
+
+TEST(Measures, SphereSlabVolume) {
+  const double r = 1.0, full = 4.0 / 3.0 * M_PI;
+  EXPECT_NEAR(sphere_slab_volume(0, r, -2, 2), full, 1e-14);
+  EXPECT_NEAR(sphere_slab_volume(0, r, 0, 5), full / 2, 1e-14);
+  EXPECT_NEAR(sphere_slab_volume(0, r, 0.5, 1), M_PI * 0.5 * 0.5 * (3 - 0.5) / 3, 1e-14);  // cap of height h: pi h^2 (3r - h)/3
+  EXPECT_EQ(sphere_slab_volume(0, r, 1.5, 2), 0.0);
+}
+
+}  // namespace
+}  // namespace tsubu
