@@ -198,7 +198,7 @@ void ForceField::index_contacts(const World& world) {
   for (std::uint32_t k = 0; k < world.pair_contacts.size(); ++k) {
     const Contact& c = world.pair_contacts[k];
     pair_index_[fill[c.i]++] = k;
-    pair_index_[fill[c.j]++] = k;
+    pair_index_[fill[c.j]++] = k | kSecondParticle;
   }
   wall_start_.assign(n + 1, 0);
   for (const Contact& c : world.wall_contacts) ++wall_start_[c.i + 1];
@@ -207,7 +207,6 @@ void ForceField::index_contacts(const World& world) {
 
 void ForceField::accumulate(World& world) {
   Particles& p = world.particles;
-  const auto& pairs = world.pair_contacts;
   // Each particle gathers its own contacts in ascending contact order, so the sums are the
   // same bits for every thread count (and no two threads write the same particle).
   const int threads = threads_for(p.size());
@@ -222,10 +221,10 @@ void ForceField::accumulate(World& world) {
       int count = 0;
       const Results& pr = pair_results_;
       for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {
-        const std::uint32_t k = pair_index_[s];
+        const std::uint32_t k = pair_index_[s] & ~kSecondParticle;
         const double ratio = pr.overlap_ratio[k];
         if (!(ratio > 0)) continue;
-        if (pairs[k].i == i) {
+        if (!(pair_index_[s] & kSecondParticle)) {
           force += pr.force_i[k];
           torque += pr.torque_i[k];
           ++local_touching;  // each pair once, from its first particle

@@ -49,7 +49,10 @@ class ForceField {
   std::vector<std::vector<Pair>> wall_hits_;
   std::vector<Vec3> built_at_;  // positions at the last build
   double skin_ = 0;
-  std::vector<std::uint32_t> pair_start_, pair_index_, wall_start_;  // contacts of each particle
+  // Contacts of each particle: pair_index_[pair_start_[i] .. pair_start_[i+1]) are contact
+  // numbers in ascending order, with kSecondParticle set where i is the pair's j.
+  static constexpr std::uint32_t kSecondParticle = 1u << 31;
+  std::vector<std::uint32_t> pair_start_, pair_index_, wall_start_;
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
   bool needs_rebuild(const World& world) const;
