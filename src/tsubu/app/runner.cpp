@@ -1,5 +1,6 @@
 #include "tsubu/app/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -69,6 +70,29 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio\n"
          << std::setprecision(12);
   PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
+  std::vector<std::size_t> tracked;  // indices of the tracked particle ids
+  for (std::int64_t id : sc.output.track) {
+    const auto it = std::find(world.particles.id.begin(), world.particles.id.end(), id);
+    if (it == world.particles.id.end())
+      throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
+                       "no particle has id " + std::to_string(id) + "; ids run from 0 to " +
+                           std::to_string(static_cast<long>(world.particles.size()) - 1) + " in the order of [[particles]]");
+    tracked.push_back(static_cast<std::size_t>(it - world.particles.id.begin()));
+  }
+  std::ofstream track;
+  if (!tracked.empty()) {
+    track.open(fs::path(out_dir) / "track.csv");
+    track << "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n" << std::setprecision(17);
+  }
+  auto write_track = [&] {
+    const Particles& p = world.particles;
+    for (std::size_t i : tracked) {
+      const Vec3 &x = p.position[i], &v = p.velocity[i], &w = p.omega[i], &f = p.force[i];
+      track << world.time << ',' << p.id[i] << ',' << x.x << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ','
+            << v.z << ',' << w.x << ',' << w.y << ',' << w.z << ',' << f.x << ',' << f.y << ',' << f.z << ','
+            << p.contact_count[i] << '\n';
+    }
+  };
   int frame = 0;
   auto write_series = [&] {
     const Energies e = energies(world);
@@ -86,6 +110,7 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   const std::int64_t series_every = every(sc.output.series_interval, sc.dt);
   const std::int64_t vtk_every = sc.output.vtk_interval > 0 ? every(sc.output.vtk_interval, sc.dt) : 0;
+  const std::int64_t track_every = every(sc.output.track_interval, sc.dt);
   const bool show_progress = progress && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -95,10 +120,12 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   try {
     forces.compute(world);
     write_series();
+    write_track();
     if (vtk_every) write_frame();
     for (std::int64_t s = 1; s <= steps; ++s) {
       advance(sc.integrator, world, forces);
       if (s % series_every == 0 || s == steps) write_series();
+      if (s % track_every == 0 || s == steps) write_track();
       if (vtk_every && (s % vtk_every == 0 || s == steps)) write_frame();
       if (show_progress && elapsed() > next_progress) {
         next_progress = elapsed() + 0.5;

@@ -255,6 +255,10 @@ void read_output(Section s, Scenario& sc) {
   sc.output.series_interval = s.real("series_interval", sc.duration / 200);
   if (sc.output.vtk_interval < 0) s.fail("vtk_interval", "must be >= 0 (0 writes no frames)");
   if (sc.output.series_interval < 0) s.fail("series_interval", "must be >= 0 (0 writes every step)");
+  sc.output.track = s.integers("track", {});
+  sc.output.track_interval = s.real("track_interval", sc.output.series_interval);
+  if (sc.output.track_interval < 0) s.fail("track_interval", "must be >= 0 (0 writes every step)");
+  sc.output.where = {s.file(), s.line_of("track"), s.key_path("track")};
   s.finish();
 }
 

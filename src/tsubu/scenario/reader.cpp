@@ -184,6 +184,20 @@ std::vector<std::string> Section::texts(std::string_view key, std::vector<std::s
   return out;
 }
 
+std::vector<std::int64_t> Section::integers(std::string_view key, std::vector<std::int64_t> fallback) {
+  if (!has(key)) return fallback;
+  const toml::node& n = node(key);
+  const toml::array* arr = n.as_array();
+  if (!arr) fail(key, std::string("must be an array of integers, got ") + type_name(n));
+  std::vector<std::int64_t> out;
+  for (const auto& e : *arr) {
+    auto v = e.value_exact<std::int64_t>();
+    if (!v) fail(key, "must be an array of integers");
+    out.push_back(*v);
+  }
+  return out;
+}
+
 std::optional<Section> Section::table(std::string_view key) {
   if (!has(key)) return std::nullopt;
   const toml::node& n = node(key);

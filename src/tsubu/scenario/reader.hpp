@@ -41,6 +41,7 @@ class Section {
   Vec3 vec3(std::string_view key, const Vec3& fallback);
   std::vector<double> reals(std::string_view key);  // array of numbers
   std::vector<std::string> texts(std::string_view key, std::vector<std::string> fallback);
+  std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback);
 
   std::optional<Section> table(std::string_view key);
   std::vector<Section> tables(std::string_view key);  // array of tables (may be absent)

@@ -43,6 +43,9 @@ struct OutputSpec {
   std::string dir;             // empty: out/<name>
   double vtk_interval = 0;     // s, 0 = no frames
   double series_interval = 0;  // s
+  std::vector<std::int64_t> track;  // particle ids written to track.csv
+  double track_interval = 0;        // s, 0 = every step
+  SourceLocation where;             // the [output] table, for errors found at run time
 };
 
 struct AnalysisSpec {
