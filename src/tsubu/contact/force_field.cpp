@@ -52,15 +52,18 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
 
 }  // namespace
 
-void ForceField::Results::resize(std::size_t n) {
+void ForceField::Results::resize(std::size_t n, bool shifts) {
   force_i.resize(n);
   torque_i.resize(n);
   torque_j.resize(n);
   energy.resize(n);
   overlap_ratio.resize(n);
+  shift_i.assign(shifts ? n : 0, Vec3{});
+  shift_j.assign(shifts ? n : 0, Vec3{});
 }
 
 void ForceField::compute(World& world) {
+  shifts_ = world.laws.corrects_positions();
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
@@ -115,7 +118,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
 void ForceField::evaluate_pairs(World& world) {
   const Particles& p = world.particles;
   auto& contacts = world.pair_contacts;
-  pair_results_.resize(contacts.size());
+  pair_results_.resize(contacts.size(), shifts_);
   const double dt = world.dt;
   auto law_of = [&](std::size_t k) -> const PairLaw& {
     return world.laws.at(p.material[contacts[k].i], p.material[contacts[k].j]);
@@ -130,6 +133,7 @@ void ForceField::evaluate_pairs(World& world) {
     if (!c.touching) {
       c.history = {};
       pair_results_.set(k, {}, {}, {}, 0, 0);
+      if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
       return;
     }
     const double dist = std::sqrt(dist2);
@@ -143,17 +147,23 @@ void ForceField::evaluate_pairs(World& world) {
     g.r_eff = ri * rj / (ri + rj);
     g.m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
     g.d_mean = ri + rj;
+    g.d_small = 2.0 * std::min(ri, rj);
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
     const Vec3 n_x_ft = cross(g.n, f.tangential);
-    pair_results_.set(k, f.total, -arm_i * n_x_ft, -arm_j * n_x_ft, f.energy, g.delta / (2.0 * std::min(ri, rj)));
+    pair_results_.set(k, f.total, -arm_i * n_x_ft, -arm_j * n_x_ft, f.energy, g.delta / g.d_small);
+    if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) {
+      // Split like an impulse: the centre of mass stays where it is.
+      pair_results_.shift_i[k] = (f.gap_shift * g.m_eff / p.mass[i]) * g.n;
+      pair_results_.shift_j[k] = (-f.gap_shift * g.m_eff / p.mass[j]) * g.n;
+    }
   });
 }
 
 void ForceField::evaluate_walls(World& world) {
   const Particles& p = world.particles;
   auto& contacts = world.wall_contacts;
-  wall_results_.resize(contacts.size());
+  wall_results_.resize(contacts.size(), shifts_);
   const double dt = world.dt;
   auto law_of = [&](std::size_t k) -> const PairLaw& {
     return world.laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
@@ -170,6 +180,7 @@ void ForceField::evaluate_walls(World& world) {
     if (!c.touching) {
       c.history = {};
       wall_results_.set(k, {}, {}, {}, 0, 0);
+      if (shifts_) wall_results_.shift_i[k] = {};
       return;
     }
     ContactGeometry g;
@@ -182,9 +193,11 @@ void ForceField::evaluate_walls(World& world) {
     g.r_eff = ri;
     g.m_eff = p.mass[i];
     g.d_mean = 2.0 * ri;
+    g.d_small = 2.0 * ri;
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
     wall_results_.set(k, f.total, -arm_i * cross(g.n, f.tangential), {}, f.energy, g.delta / (2.0 * ri));
+    if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) wall_results_.shift_i[k] = f.gap_shift * g.n;
   });
 }
 
@@ -217,7 +230,7 @@ void ForceField::accumulate(World& world) {
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      Vec3 force = p.mass[i] * world.gravity, torque;
+      Vec3 force = p.mass[i] * world.gravity, torque, shift;
       int count = 0;
       const Results& pr = pair_results_;
       for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {
@@ -227,10 +240,12 @@ void ForceField::accumulate(World& world) {
         if (!(pair_index_[s] & kSecondParticle)) {
           force += pr.force_i[k];
           torque += pr.torque_i[k];
+          if (shifts_) shift += pr.shift_i[k];
           ++local_touching;  // each pair once, from its first particle
         } else {
           force -= pr.force_i[k];
           torque += pr.torque_j[k];
+          if (shifts_) shift += pr.shift_j[k];
         }
         ++count;
         local_worst = std::max(local_worst, ratio);
@@ -241,6 +256,7 @@ void ForceField::accumulate(World& world) {
         if (!(ratio > 0)) continue;
         force += wr.force_i[k];
         torque += wr.torque_i[k];
+        if (shifts_) shift += wr.shift_i[k];
         ++count;
         ++local_touching;
         local_worst = std::max(local_worst, ratio);
@@ -249,6 +265,7 @@ void ForceField::accumulate(World& world) {
       p.force[i] = force;
       p.torque[i] = torque;
       p.contact_count[i] = count;
+      if (shifts_) p.position[i] = world.domain.wrap(p.position[i] + shift);  // model P's contact step
     }
     worst[static_cast<std::size_t>(t)] = local_worst;
     touching[static_cast<std::size_t>(t)] = local_touching;
@@ -299,6 +316,9 @@ void ForceField::report_overlap(const World& world) const {
   } else {
     msg << "a particle force is not finite";
   }
+  if (!std::isfinite(ratio))
+    msg << " (a non-finite force: for energy_conserving_2005 this means the contact left the reconstructed"
+           " model's range, (a+1) e^2 u^2 < a d^2: raise e or lower k_n dt^2/m*)";
   msg << " (limit " << world.overlap_limit << ", simulation.overlap_limit); the time step " << world.dt
       << " s is probably too large for this stiffness and impact speed: try dt/4";
   throw NumericalError(msg.str());

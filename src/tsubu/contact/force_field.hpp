@@ -34,10 +34,11 @@ class ForceField {
  private:
   // Per-contact results, one array per quantity (zeros for pairs that do not touch);
   // overlap_ratio > 0 marks a touching contact.
+  // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
   struct Results {
-    std::vector<Vec3> force_i, torque_i, torque_j;
+    std::vector<Vec3> force_i, torque_i, torque_j, shift_i, shift_j;
     std::vector<double> energy, overlap_ratio;
-    void resize(std::size_t n);
+    void resize(std::size_t n, bool shifts);
     void set(std::size_t k, const Vec3& f, const Vec3& ti, const Vec3& tj, double e, double ratio) {
       force_i[k] = f, torque_i[k] = ti, torque_j[k] = tj, energy[k] = e, overlap_ratio[k] = ratio;
     }
@@ -48,6 +49,7 @@ class ForceField {
   Results pair_results_, wall_results_;
   std::vector<std::vector<Pair>> wall_hits_;
   std::vector<Vec3> built_at_;  // positions at the last build
+  bool shifts_ = false;         // some law corrects positions
   double skin_ = 0;
   // Contacts of each particle: pair_index_[pair_start_[i] .. pair_start_[i+1]) are contact
   // numbers in ascending order, with kSecondParticle set where i is the pair's j.

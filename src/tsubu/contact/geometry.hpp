@@ -12,6 +12,7 @@ struct ContactGeometry {
   double r_eff = 0;   // R* (wall: R_i), m
   double m_eff = 0;   // m* (wall: m_i), kg
   double d_mean = 0;  // (d_i + d_j)/2 (wall: d_i), m
+  double d_small = 0; // min(d_i, d_j) (wall: d_i), m
   double dt = 0;      // time step, s
 };
 
@@ -23,13 +24,19 @@ struct ContactHistory {
 };
 
 // What a normal model returns: the normal force (positive repulsive), its linear-equivalent
-// stiffness and damping coefficient (the tangential models scale theirs from these), and the
-// elastic energy stored in the normal spring.
+// stiffness and damping coefficient (the tangential models scale theirs from these), the
+// elastic energy stored in the normal spring, and for models that correct positions
+// (`corrects_position`), how much the gap must open now (m; split between the two particles
+// like an impulse).
 struct NormalForce {
   double f = 0;
   double stiffness = 0;
   double damping = 0;
   double energy = 0;
+  double gap_shift = 0;
 };
+
+template <class Normal>
+constexpr bool corrects_position_v = requires { Normal::corrects_position; };
 
 }  // namespace tsubu

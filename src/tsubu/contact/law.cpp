@@ -27,6 +27,10 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
   } else if (spec.normal == "hertz_sediment") {
     law.normal = HertzSediment{e_star, spec.alpha};
     tangential_damping = 1.0 / std::sqrt(2.0 * (1.0 - nu));  // beta_t = alpha / sqrt(2(1-sigma))
+  } else if (spec.normal == "energy_conserving") {
+    law.normal = EnergyConserving{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
+  } else if (spec.normal == "energy_conserving_2005") {
+    law.normal = EnergyConserving2005{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
   } else {
     throw std::invalid_argument("unknown normal model " + spec.normal);
   }
@@ -35,7 +39,8 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
   } else if (spec.tangential == "linear_coulomb") {
     const double kappa = spec.stiffness_ratio > 0 ? spec.stiffness_ratio : 2 * (1 - nu) / (2 - nu);
     // eta_t = 2 beta sqrt(m* k_t) = sqrt(kappa) eta_n for the linear model.
-    const double ratio = spec.normal == "linear" ? std::sqrt(kappa) : tangential_damping;
+    const bool linear_spring = spec.normal == "linear" || spec.normal.rfind("energy_conserving", 0) == 0;
+    const double ratio = linear_spring ? std::sqrt(kappa) : tangential_damping;
     law.tangential = LinearCoulomb{kappa, ratio, spec.friction};
   } else if (spec.tangential == "mindlin") {
     law.tangential = MindlinSlip{spec.friction, nu, tangential_damping};
@@ -43,6 +48,12 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
     throw std::invalid_argument("unknown tangential model " + spec.tangential);
   }
   return law;
+}
+
+bool LawTable::corrects_positions() const {
+  for (const auto& l : laws)
+    if (std::visit([](const auto& m) { return corrects_position_v<std::decay_t<decltype(m)>>; }, l.normal)) return true;
+  return false;
 }
 
 bool LawTable::uniform() const {

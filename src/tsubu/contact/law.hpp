@@ -6,13 +6,14 @@
 #include <variant>
 #include <vector>
 
+#include "tsubu/contact/energy_conserving.hpp"
 #include "tsubu/contact/normal_models.hpp"
 #include "tsubu/contact/tangential_models.hpp"
 #include "tsubu/world/domain.hpp"
 
 namespace tsubu {
 
-using NormalModel = std::variant<LinearDashpot, HertzTsuji, HertzSediment>;
+using NormalModel = std::variant<LinearDashpot, HertzTsuji, HertzSediment, EnergyConserving, EnergyConserving2005>;
 using TangentialModel = std::variant<NoFriction, LinearCoulomb, MindlinSlip>;
 
 struct PairLaw {
@@ -25,6 +26,7 @@ struct ContactForce {
   Vec3 total;
   Vec3 tangential;
   double energy = 0;
+  double gap_shift = 0;  // m, see NormalForce
 };
 
 template <class Normal, class Tangential>
@@ -32,16 +34,17 @@ inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
                              const ContactGeometry& g, ContactHistory& h) {
   const NormalForce fn = normal.force(g, h);
   const Vec3 ft = tangential.force(g, fn, h.xi);
-  return {fn.f * g.n + ft, ft, fn.energy};
+  return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift};
 }
 
 // What a scenario says about a material pair, before the materials are known.
 struct ContactSpec {
-  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment
+  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | energy_conserving[_2005]
   std::string tangential = "mindlin";  // none | linear_coulomb | mindlin
   double restitution = 1.0;            // e in (0, 1]
   double friction = 0.0;               // mu
-  double stiffness = 0.0;              // k_n for linear, N/m
+  double stiffness = 0.0;              // k_n for linear and energy_conserving[_2005], N/m
+  double characteristic_length = 0.0;  // d_c of energy_conserving[_2005], m (0: smaller diameter)
   double alpha = 0.2;                  // dashpot constant of hertz_sediment
   double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu))
 };
@@ -61,6 +64,8 @@ struct LawTable {
   const PairLaw& at(int a, int b) const { return laws[static_cast<std::size_t>(a * n_materials + b)]; }
   // True when all laws use the same pair of model types.
   bool uniform() const;
+  // True when some law's normal model corrects positions (models P, F).
+  bool corrects_positions() const;
 };
 
 }  // namespace tsubu

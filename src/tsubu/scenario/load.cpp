@@ -128,21 +128,31 @@ void read_material(Section s, Scenario& sc) {
   sc.materials.push_back(m);
 }
 
-ContactSpec read_contact_spec(Section& s) {
+ContactSpec read_contact_spec(Section& s, Integrator integrator) {
   ContactSpec c;
-  c.normal = s.choice("normal", {"linear", "hertz_tsuji", "hertz_sediment"}, "hertz_tsuji");
+  c.normal = s.choice("normal", {"linear", "hertz_tsuji", "hertz_sediment", "energy_conserving", "energy_conserving_2005"},
+                      "hertz_tsuji");
+  const bool linear_spring = c.normal == "linear" || c.normal.rfind("energy_conserving", 0) == 0;
+  const bool energy_model = c.normal.rfind("energy_conserving", 0) == 0;
+  if (energy_model && integrator != Integrator::symplectic_euler)
+    s.fail("normal", "model \"" + c.normal +
+                         "\" is built on the symplectic Euler scheme and needs simulation.integrator = \"symplectic_euler\"");
   c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, "mindlin");
   c.restitution = s.real("restitution", 1.0);
   if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]" + got(c.restitution));
   c.friction = s.real("friction", 0.0);
   if (c.friction < 0) s.fail("friction", "must be >= 0" + got(c.friction));
   // Keys of one model only: refused by name with the other models rather than as unknown.
-  if (c.normal == "linear") {
-    if (!s.has("stiffness")) s.fail("stiffness", "is required with normal = \"linear\": the spring constant k_n in N/m");
+  if (linear_spring) {
+    if (!s.has("stiffness"))
+      s.fail("stiffness", "is required with normal = \"" + c.normal + "\": the spring constant k_n in N/m");
     c.stiffness = s.positive("stiffness");
   } else if (s.has("stiffness")) {
-    s.fail("stiffness", "is used only with normal = \"linear\"");
+    s.fail("stiffness", "is used only with normal = \"linear\", \"energy_conserving\" or \"energy_conserving_2005\"");
   }
+  if (energy_model) c.characteristic_length = s.positive("characteristic_length", 0.0);
+  else if (s.has("characteristic_length"))
+    s.fail("characteristic_length", "is used only with normal = \"energy_conserving\" or \"energy_conserving_2005\"");
   if (c.normal == "hertz_sediment") c.alpha = s.positive("alpha", 0.2);
   else if (s.has("alpha")) s.fail("alpha", "is used only with normal = \"hertz_sediment\"");
   if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.positive("stiffness_ratio", 0.0);
@@ -152,7 +162,7 @@ ContactSpec read_contact_spec(Section& s) {
 
 void read_contact(Section s, Scenario& sc) {
   if (auto d = s.table("default")) {
-    sc.default_contact = read_contact_spec(*d);
+    sc.default_contact = read_contact_spec(*d, sc.integrator);
     d->finish();
   }
   for (Section p : s.tables("pairs")) {
@@ -164,7 +174,7 @@ void read_contact(Section s, Scenario& sc) {
     for (const auto& other : sc.pair_contacts)
       if ((other.a == pc.a && other.b == pc.b) || (other.a == pc.b && other.b == pc.a))
         p.fail("materials", "the pair \"" + names[0] + "\", \"" + names[1] + "\" has two [[contact.pairs]] entries");
-    pc.spec = read_contact_spec(p);
+    pc.spec = read_contact_spec(p, sc.integrator);
     p.finish();
     sc.pair_contacts.push_back(pc);
   }

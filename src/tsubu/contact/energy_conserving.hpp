@@ -1,0 +1,112 @@
+// Energy-conserving normal contact (Fujioka & Ushijima; spec/contact-models.md, models P and
+// F). Both exist only with the symplectic Euler scheme v <- v + F/m dt, x <- x + v dt, whose
+// future plane is d_{j+1} = d_j + u_{j+1}. Dimensionless along n, for step dt and
+// characteristic length d_c:
+//   u = -v_n dt / d_c (approach per step), d = delta / d_c, a = k_n dt^2 / m*, s = u / d,
+// and an impulse f changes u by f; the real force over the step is F_n = -f m* d_c / dt^2.
+// The energy (a d^2 + u^2)/2 is what the model conserves.
+#pragma once
+#include <cmath>
+#include <limits>
+
+#include "tsubu/contact/geometry.hpp"
+#include "tsubu/contact/normal_models.hpp"
+
+namespace tsubu {
+
+namespace energy_contact {
+
+// Dimensionless state of a touching pair.
+struct State {
+  double u, d, a, s, d_c;
+};
+
+inline State state_of(const ContactGeometry& g, double k_n, double characteristic_length) {
+  State st;
+  st.d_c = characteristic_length > 0 ? characteristic_length : g.d_small;
+  st.u = -g.v_n * g.dt / st.d_c;
+  st.d = g.delta / st.d_c;
+  st.a = k_n * g.dt * g.dt / g.m_eff;
+  st.s = st.u / st.d;
+  return st;
+}
+
+// Modes 2-4: the impulse of a step from a state inside the contact (s < 1).
+inline double interior_impulse(const State& st) {
+  const double a = st.a, s = st.s, d = st.d;
+  const bool eq21 = (s > 0) || (a < 1 && s >= -std::sqrt(1 - a));  // modes 2 and 3
+  if (eq21) {
+    const double root = std::sqrt(s * s * (a + 1) + a * a);
+    // Eq. 21 (negative root): rebound while keeping the energy; d_{j+1} = d (1 - root)/(1 + a).
+    // Our addition: when that would leave d_{j+1} <= 0 the pair separates this step, and
+    // Eq. 23 is used so that no spring energy is left behind.
+    if (root < 1) return -(d / (1 + a)) * ((a + 1) * s + a + root);
+  }
+  return -d * (s + std::sqrt(s * s + a));  // Eq. 23, mode 4: separation, all energy kinetic
+}
+
+// The force and the depth correction of an impulse `f` and a correction `d_hat - d`.
+inline NormalForce to_force(const ContactGeometry& g, const State& st, double f, double depth_change, double k_n,
+                            double beta) {
+  NormalForce out;
+  out.f = -f * g.m_eff * st.d_c / (g.dt * g.dt);
+  out.stiffness = k_n;
+  out.damping = 2.0 * beta * std::sqrt(g.m_eff * k_n);  // for the tangential damping only
+  out.energy = 0.5 * k_n * g.delta * g.delta;
+  out.gap_shift = -depth_change * st.d_c;  // the gap opens by what the depth loses
+  return out;
+}
+
+}  // namespace energy_contact
+
+// Model P: the paper's model, with the contact-step state correction.
+struct EnergyConserving {
+  static constexpr const char* name = "energy_conserving (P)";
+  static constexpr bool corrects_position = true;
+  double k_n = 0;                    // N/m
+  double e = 1;                      // restitution
+  double beta = 0;                   // damping ratio of e, for the tangential model
+  double characteristic_length = 0;  // m, 0: the smaller diameter of the pair
+
+  NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+    using namespace energy_contact;
+    const State st = state_of(g, k_n, characteristic_length);
+    if (st.s < 1) return to_force(g, st, interior_impulse(st), 0.0, k_n, beta);
+    // Mode 1, the contact step: the touch happened 1/s of a step ago. Replace (d, u) by the
+    // state of energy e^2 u^2 / 2 on the same line d = u/s (Eqs. 15, 17) ...
+    const double a = st.a, s = st.s, u = st.u;
+    const double f_hat = (e * s / std::sqrt(s * s + a) - 1) * u;
+    const double u_hat = u + f_hat;
+    const double d_hat = u_hat / s;
+    // ... then take an energy-conserving step from it (Eq. 20, positive root; the paper
+    // prints d_j where the corrected d_hat is meant).
+    const double f_bar = -(d_hat / (1 + a)) * ((a + 1) * s + a - std::sqrt(s * s * (a + 1) + a * a));
+    return to_force(g, st, f_hat + f_bar, d_hat - st.d, k_n, beta);
+  }
+};
+
+// Model F: the authors' 2005 model as reconstructed in the spec ("F (reconstructed)"). No
+// correction of the contact step; mode 1 split by the line s = 1/e.
+struct EnergyConserving2005 {
+  static constexpr const char* name = "energy_conserving_2005 (F, reconstructed)";
+  double k_n = 0;
+  double e = 1;
+  double beta = 0;
+  double characteristic_length = 0;
+
+  NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+    using namespace energy_contact;
+    const State st = state_of(g, k_n, characteristic_length);
+    if (st.s < 1) return to_force(g, st, interior_impulse(st), 0.0, k_n, beta);
+    if (st.s >= 1 / e) return to_force(g, st, -(1 + e) * st.u, 0.0, k_n, beta);  // one-step rebound
+    // Keep the contact-step state; the next state has energy e^2 u^2 / 2 with d' = d + u'.
+    const double a = st.a, d = st.d, u = st.u;
+    const double disc = (a + 1) * e * e * u * u - a * d * d;
+    if (disc < 0)  // outside the model's range (small e, large a): stops the run as non-finite
+      return to_force(g, st, std::numeric_limits<double>::quiet_NaN(), 0.0, k_n, beta);
+    const double u_next = (-a * d + std::sqrt(disc)) / (a + 1);
+    return to_force(g, st, u_next - u, 0.0, k_n, beta);
+  }
+};
+
+}  // namespace tsubu
