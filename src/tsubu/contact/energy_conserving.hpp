@@ -34,7 +34,7 @@ inline State state_of(const ContactGeometry& g, double k_n, double characteristi
 // Modes 2-4: the impulse of a step from a state inside the contact (s < 1).
 inline double interior_impulse(const State& st) {
   const double a = st.a, s = st.s, d = st.d;
-  const bool eq21 = (s > 0) || (a < 1 && s >= -std::sqrt(1 - a));  // modes 2 and 3
+  const bool eq21 = (s > 0) || (a < 1 && s * s <= 1 - a);  // modes 2 and 3 (s >= -sqrt(1-a))
   if (eq21) {
     const double root = std::sqrt(s * s * (a + 1) + a * a);
     // Eq. 21 (negative root): rebound while keeping the energy; d_{j+1} = d (1 - root)/(1 + a).
