@@ -170,32 +170,27 @@ Vec3 Section::vec3(std::string_view key, const Vec3& fallback) { return has(key)
 
 std::vector<double> Section::reals(std::string_view key) { return numbers(key, 0); }
 
-std::vector<std::string> Section::texts(std::string_view key, std::vector<std::string> fallback) {
+template <class T>
+std::vector<T> Section::array_of(std::string_view key, std::vector<T> fallback, const char* what) {
   if (!has(key)) return fallback;
   const toml::node& n = node(key);
   const toml::array* arr = n.as_array();
-  if (!arr) fail(key, std::string("must be an array of strings, got ") + type_name(n));
-  std::vector<std::string> out;
+  if (!arr) fail(key, std::string("must be an array of ") + what + ", got " + type_name(n));
+  std::vector<T> out;
   for (const auto& e : *arr) {
-    auto v = e.value_exact<std::string>();
-    if (!v) fail(key, "must be an array of strings");
+    auto v = e.template value_exact<T>();
+    if (!v) fail(key, std::string("must be an array of ") + what);
     out.push_back(*v);
   }
   return out;
 }
 
+std::vector<std::string> Section::texts(std::string_view key, std::vector<std::string> fallback) {
+  return array_of(key, std::move(fallback), "strings");
+}
+
 std::vector<std::int64_t> Section::integers(std::string_view key, std::vector<std::int64_t> fallback) {
-  if (!has(key)) return fallback;
-  const toml::node& n = node(key);
-  const toml::array* arr = n.as_array();
-  if (!arr) fail(key, std::string("must be an array of integers, got ") + type_name(n));
-  std::vector<std::int64_t> out;
-  for (const auto& e : *arr) {
-    auto v = e.value_exact<std::int64_t>();
-    if (!v) fail(key, "must be an array of integers");
-    out.push_back(*v);
-  }
-  return out;
+  return array_of(key, std::move(fallback), "integers");
 }
 
 std::optional<Section> Section::table(std::string_view key) {

@@ -56,6 +56,8 @@ class Section {
 
   const toml::node& node(std::string_view key);  // marks used; requires presence
   std::vector<double> numbers(std::string_view key, std::size_t expected);
+  template <class T>
+  std::vector<T> array_of(std::string_view key, std::vector<T> fallback, const char* what);
 };
 
 // Levenshtein distance, for "did you mean" suggestions.
