@@ -99,8 +99,13 @@ struct HookeHysteresis {
     return (k2max / (k2max - k)) * phi_f * 2 * r_eff;
   }
 
+  // Which part of the law gave the force (for tests and diagnostics).
+  enum class Branch { virgin, unload_reload, beyond_limit, adhesive };
+
   // The elastic-plastic part F_hys for overlap delta; updates h (= normal[0]).
-  double hysteresis(double k, double r_eff, double delta, double& h) const {
+  double hysteresis(double k, double r_eff, double delta, double& h, Branch* branch = nullptr) const {
+    Branch b_local;
+    Branch& b = branch ? *branch : b_local;
     const double k2max = k * c_k2;
     const double kc = k * c_kc;
     if (delta > h) h = delta;
@@ -108,13 +113,17 @@ struct HookeHysteresis {
     double f;
     if (h >= lim) {  // case A: beyond the plasticity depth, k2 = k2max with no k_n cap
       f = k2max * (delta - lim) + k * lim;
+      b = Branch::beyond_limit;
       if (f >= -kc * delta) return f;
     } else {         // case B
       const double k2 = k + (k2max - k) * h / lim;
       f = k2 * (delta - h) + k * h;
+      b = Branch::virgin;
       if (f >= k * delta) return k * delta;  // virgin loading
+      b = Branch::unload_reload;
       if (f > -kc * delta) return f;         // un- or reloading
     }
+    b = Branch::adhesive;
     // Adhesive branch: the force is -k_c delta and h moves so that this point lies on the
     // un/reloading line of the new h.
     h = 0.5 * (delta + std::sqrt(delta * delta + 4 * ((k + kc) * delta * lim / (k2max - k))));
