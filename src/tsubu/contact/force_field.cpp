@@ -283,7 +283,7 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   double load = 0;
   const auto& contacts = world.wall_contacts;
   for (std::size_t k = 0; k < contacts.size(); ++k)
-    if (contacts[k].touching && contacts[k].j == wall) load -= dot(wall_results_.force_i[k], world.walls[wall].normal);
+    if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.force_i[k], world.walls[wall].normal);
   return load;
 }
 
