@@ -67,8 +67,19 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   summary.particles = world.particles.size();
 
   std::ofstream series(fs::path(out_dir) / "series.csv");
-  series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio\n"
-         << std::setprecision(12);
+  // Moving walls add two columns each: the displacement of the plane along its normal and
+  // the load the particles put on it.
+  std::vector<std::size_t> moving;
+  for (std::size_t k = 0; k < world.walls.size(); ++k)
+    if (!world.walls[k].motion.empty()) moving.push_back(k);
+  const std::vector<Vec3> wall_start = [&] {
+    std::vector<Vec3> v;
+    for (const Wall& w : world.walls) v.push_back(w.point);
+    return v;
+  }();
+  series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
+  for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
+  series << '\n' << std::setprecision(12);
   PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
   std::vector<std::size_t> tracked;  // indices of the tracked particle ids
   for (std::int64_t id : sc.output.track) {
@@ -98,7 +109,11 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
     const Energies e = energies(world);
     const ContactTotals c = forces.totals(world);
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
-           << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio << '\n';
+           << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
+    for (std::size_t k : moving)
+      series << ',' << dot(world.walls[k].point - wall_start[k], world.walls[k].normal) << ','
+             << forces.wall_load(world, k);
+    series << '\n';
   };
   auto write_frame = [&] {
     char name[32];

@@ -76,6 +76,9 @@ bool ForceField::needs_rebuild(const World& world) const {
   const double limit2 = 0.25 * skin_ * skin_;
   for (std::size_t i = 0; i < p.size(); ++i)
     if (norm2(world.domain.separation(p.position[i], built_at_[i])) > limit2) return true;
+  if (walls_built_at_.size() != world.walls.size()) return true;
+  for (std::size_t w = 0; w < world.walls.size(); ++w)
+    if (norm2(world.walls[w].point - walls_built_at_[w]) > limit2) return true;  // moving walls
   return false;
 }
 
@@ -90,6 +93,8 @@ void ForceField::rebuild(World& world) {
   carry_history(candidates_, world.wall_contacts, next_);
   world.wall_contacts.swap(next_);
   built_at_ = p.position;
+  walls_built_at_.clear();
+  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
   index_contacts(world);
   ++rebuilds_;
 }
@@ -187,7 +192,7 @@ void ForceField::evaluate_walls(World& world) {
     g.n = wall.normal;
     g.delta = ri - dist;
     const double arm_i = ri - 0.5 * g.delta;
-    const Vec3 v_rel = p.velocity[i] + cross(p.omega[i], -arm_i * g.n);
+    const Vec3 v_rel = p.velocity[i] - wall.velocity + cross(p.omega[i], -arm_i * g.n);
     g.v_n = dot(v_rel, g.n);
     g.v_t = v_rel - g.v_n * g.n;
     g.r_eff = ri;
@@ -288,6 +293,14 @@ ContactTotals ForceField::totals(const World& world) const {
   add(world.pair_contacts, pair_results_);
   add(world.wall_contacts, wall_results_);
   return totals;
+}
+
+double ForceField::wall_load(const World& world, std::size_t wall) const {
+  double load = 0;
+  const auto& contacts = world.wall_contacts;
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.force_i[k], world.walls[wall].normal);
+  return load;
 }
 
 void ForceField::report_overlap(const World& world) const {

@@ -28,6 +28,9 @@ class ForceField {
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).
   ContactTotals totals(const World& world) const;
+  // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
+  // N, from the last evaluation.
+  double wall_load(const World& world, std::size_t wall) const;
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
 
@@ -50,6 +53,7 @@ class ForceField {
   std::vector<std::vector<Pair>> wall_hits_;
   std::vector<Vec3> built_at_;  // positions at the last build
   bool shifts_ = false;         // some law corrects positions
+  std::vector<Vec3> walls_built_at_;  // wall points at the last build
   double skin_ = 0;
   // Contacts of each particle: pair_index_[pair_start_[i] .. pair_start_[i+1]) are contact
   // numbers in ascending order, with kSecondParticle set where i is the pair's j.

@@ -31,17 +31,30 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
     law.normal = EnergyConserving{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
   } else if (spec.normal == "energy_conserving_2005") {
     law.normal = EnergyConserving2005{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
+  } else if (spec.normal == "hooke_hysteresis") {
+    if (!(spec.max_stiffness_ratio > 1))
+      throw std::invalid_argument("hooke_hysteresis needs max_stiffness_ratio > 1");
+    law.normal = HookeHysteresis{e_star,
+                                 spec.characteristic_velocity,
+                                 spec.max_stiffness_ratio,
+                                 spec.adhesion_stiffness_ratio,
+                                 spec.plasticity_depth,
+                                 std::log(spec.restitution),
+                                 spec.no_tension};
+    tangential_damping = spec.tangential_damping ? 1.0 : 0.0;
   } else {
     throw std::invalid_argument("unknown normal model " + spec.normal);
   }
   if (spec.tangential == "none") {
     law.tangential = NoFriction{};
   } else if (spec.tangential == "linear_coulomb") {
-    const double kappa = spec.stiffness_ratio > 0 ? spec.stiffness_ratio : 2 * (1 - nu) / (2 - nu);
+    const bool hh = spec.normal == "hooke_hysteresis";
+    // HH: k_t = k_n and gamma_t = gamma_n (or 0), as LIGGGHTS' tangential history.
+    const double kappa = spec.stiffness_ratio > 0 ? spec.stiffness_ratio : hh ? 1.0 : 2 * (1 - nu) / (2 - nu);
     // eta_t = 2 beta sqrt(m* k_t) = sqrt(kappa) eta_n for the linear model.
     const bool linear_spring = spec.normal == "linear" || spec.normal.rfind("energy_conserving", 0) == 0;
     const double ratio = linear_spring ? std::sqrt(kappa) : tangential_damping;
-    law.tangential = LinearCoulomb{kappa, ratio, spec.friction};
+    law.tangential = LinearCoulomb{kappa, ratio, spec.friction, hh};
   } else if (spec.tangential == "mindlin") {
     law.tangential = MindlinSlip{spec.friction, nu, tangential_damping};
   } else {

@@ -13,7 +13,8 @@
 
 namespace tsubu {
 
-using NormalModel = std::variant<LinearDashpot, HertzTsuji, HertzSediment, EnergyConserving, EnergyConserving2005>;
+using NormalModel =
+    std::variant<LinearDashpot, HertzTsuji, HertzSediment, HookeHysteresis, EnergyConserving, EnergyConserving2005>;
 using TangentialModel = std::variant<NoFriction, LinearCoulomb, MindlinSlip>;
 
 struct PairLaw {
@@ -39,14 +40,21 @@ inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
 
 // What a scenario says about a material pair, before the materials are known.
 struct ContactSpec {
-  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | energy_conserving[_2005]
+  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | hooke_hysteresis | energy_conserving[_2005]
   std::string tangential = "mindlin";  // none | linear_coulomb | mindlin
   double restitution = 1.0;            // e in (0, 1]
   double friction = 0.0;               // mu
   double stiffness = 0.0;              // k_n for linear and energy_conserving[_2005], N/m
   double characteristic_length = 0.0;  // d_c of energy_conserving[_2005], m (0: smaller diameter)
   double alpha = 0.2;                  // dashpot constant of hertz_sediment
-  double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu))
+  double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu); 1 with HH)
+  // hooke_hysteresis only:
+  double characteristic_velocity = 0;  // v_c, m/s
+  double max_stiffness_ratio = 0;      // k2max/k_n, > 1
+  double adhesion_stiffness_ratio = 0; // k_c/k_n
+  double plasticity_depth = 0;         // phi_f
+  bool no_tension = false;             // clamp F_n >= 0
+  bool tangential_damping = true;      // gamma_t = gamma_n (false: 0)
 };
 
 // Effective moduli of two materials (spec notation): E* and G*.

@@ -24,15 +24,27 @@ struct NoFriction {
   Vec3 force(const ContactGeometry&, const NormalForce&, Vec3&) const { return {}; }
 };
 
+// LIGGGHTS' order (tangential history): stretch the spring by v_t dt first, then drop its
+// normal component (its length is not kept).
+inline void advance_spring_projected(Vec3& xi, const ContactGeometry& g) {
+  xi += g.v_t * g.dt;
+  xi -= dot(xi, g.n) * g.n;
+}
+
 // Linear spring with Coulomb cap: F_t = -k_t xi - eta_t v_t; while |k_t xi| > mu |F_n| the
 // force is mu |F_n| against xi and the spring is reset to -F_t/k_t (no damping while sliding).
+// `projected` selects how the spring follows a turning contact plane: false rotates it into
+// the new plane keeping its length (advance_spring), true is LIGGGHTS' projection
+// (advance_spring_projected; used with model HH for step-for-step agreement).
 struct LinearCoulomb {
   double stiffness_ratio = 1;  // k_t / k_n (kappa)
   double damping_ratio = 1;    // eta_t / eta_n
   double mu = 0;               // friction coefficient
+  bool projected = false;
 
   Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
-    advance_spring(xi, g);
+    if (projected) advance_spring_projected(xi, g);
+    else advance_spring(xi, g);
     const double k_t = stiffness_ratio * fn.stiffness;
     const Vec3 spring = -k_t * xi;
     const double limit = mu * std::abs(fn.f);

@@ -31,6 +31,7 @@ void drift(World& world, double h) {
         << " s is too large";
     throw NumericalError(msg.str());
   }
+  for (Wall& w : world.walls) w.advance(world.time, h);
 }
 
 }  // namespace

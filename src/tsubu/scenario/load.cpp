@@ -130,14 +130,17 @@ void read_material(Section s, Scenario& sc) {
 
 ContactSpec read_contact_spec(Section& s, Integrator integrator) {
   ContactSpec c;
-  c.normal = s.choice("normal", {"linear", "hertz_tsuji", "hertz_sediment", "energy_conserving", "energy_conserving_2005"},
+  c.normal = s.choice("normal",
+                      {"linear", "hertz_tsuji", "hertz_sediment", "hooke_hysteresis", "energy_conserving",
+                       "energy_conserving_2005"},
                       "hertz_tsuji");
+  const bool hh = c.normal == "hooke_hysteresis";
   const bool linear_spring = c.normal == "linear" || c.normal.rfind("energy_conserving", 0) == 0;
   const bool energy_model = c.normal.rfind("energy_conserving", 0) == 0;
   if (energy_model && integrator != Integrator::symplectic_euler)
     s.fail("normal", "model \"" + c.normal +
                          "\" is built on the symplectic Euler scheme and needs simulation.integrator = \"symplectic_euler\"");
-  c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, "mindlin");
+  c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, hh ? "linear_coulomb" : "mindlin");
   c.restitution = s.real("restitution", 1.0);
   if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]" + got(c.restitution));
   c.friction = s.real("friction", 0.0);
@@ -157,6 +160,30 @@ ContactSpec read_contact_spec(Section& s, Integrator integrator) {
   else if (s.has("alpha")) s.fail("alpha", "is used only with normal = \"hertz_sediment\"");
   if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.positive("stiffness_ratio", 0.0);
   else if (s.has("stiffness_ratio")) s.fail("stiffness_ratio", "is used only with tangential = \"linear_coulomb\"");
+  static constexpr const char* hh_keys[] = {"characteristic_velocity", "max_stiffness_ratio", "adhesion_stiffness_ratio",
+                                            "plasticity_depth", "no_tension", "tangential_damping"};
+  if (hh) {
+    if (!s.has("characteristic_velocity"))
+      s.fail("characteristic_velocity", "is required with normal = \"hooke_hysteresis\": the velocity v_c in m/s that sets k_n");
+    c.characteristic_velocity = s.positive("characteristic_velocity");
+    if (!s.has("max_stiffness_ratio"))
+      s.fail("max_stiffness_ratio", "is required with normal = \"hooke_hysteresis\": k2max/k_n, a number > 1");
+    c.max_stiffness_ratio = s.real("max_stiffness_ratio");
+    if (!(c.max_stiffness_ratio > 1))
+      s.fail("max_stiffness_ratio", "is k2max/k_n and must be > 1 (the unloading stiffness k2 grows from k_n up to k2max)" +
+                                        got(c.max_stiffness_ratio));
+    c.adhesion_stiffness_ratio = s.real("adhesion_stiffness_ratio", 0.0);
+    if (!(c.adhesion_stiffness_ratio >= 0))
+      s.fail("adhesion_stiffness_ratio", "is k_c/k_n and must be >= 0" + got(c.adhesion_stiffness_ratio));
+    if (!s.has("plasticity_depth"))
+      s.fail("plasticity_depth", "is required with normal = \"hooke_hysteresis\": phi_f, a fraction of 2R* (> 0)");
+    c.plasticity_depth = s.positive("plasticity_depth");
+    c.no_tension = s.flag("no_tension", false);
+    c.tangential_damping = s.flag("tangential_damping", true);
+  } else {
+    for (const char* key : hh_keys)
+      if (s.has(key)) s.fail(key, "is used only with normal = \"hooke_hysteresis\"");
+  }
   return c;
 }
 
@@ -188,6 +215,17 @@ void read_wall(Section s, Scenario& sc) {
   if (!(norm(n) > 0)) s.fail("normal", "must be a non-zero vector pointing towards the particles");
   w.normal = n / norm(n);
   w.material = material_index(sc, s, "material");
+  double previous = 0;
+  for (Section m : s.tables("motion")) {
+    WallMotion stretch;
+    stretch.until = m.positive("until");
+    if (!(stretch.until > previous))
+      m.fail("until", "must be later than the end of the previous stretch (" + num(previous) + " s)" + got(stretch.until));
+    stretch.velocity = m.vec3("velocity");
+    m.finish();
+    previous = stretch.until;
+    w.motion.push_back(stretch);
+  }
   s.finish();
   sc.walls.push_back(w);
 }

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "tsubu/core/vec3.hpp"
 
@@ -44,13 +45,37 @@ struct Domain {
   }
 };
 
-// An infinite plane; `normal` is a unit vector pointing into the particles' side.
+// A stretch of prescribed wall motion: constant velocity until the time `until`.
+struct WallMotion {
+  double until = 0;  // s
+  Vec3 velocity;     // m/s
+};
+
+// An infinite plane; `normal` is a unit vector pointing into the particles' side. A wall with
+// a `motion` moves as a rigid plane: in each step with the velocity of the stretch that holds
+// the step's midpoint (standing still after the last stretch); its velocity enters the
+// relative velocity of its contacts.
 struct Wall {
   Vec3 point;
   Vec3 normal;
   int material = 0;
+  std::vector<WallMotion> motion;  // in time order; empty: a fixed wall
+  Vec3 velocity;                   // m/s, during the current step
 
   double distance(const Vec3& x) const { return dot(x - point, normal); }
+
+  Vec3 velocity_at(double t) const {
+    for (const WallMotion& m : motion)
+      if (t < m.until) return m.velocity;
+    return {};
+  }
+
+  // Moves the plane over the step [t, t + dt].
+  void advance(double t, double dt) {
+    if (motion.empty()) return;
+    velocity = velocity_at(t + 0.5 * dt);
+    point += velocity * dt;
+  }
 };
 
 struct Material {
