@@ -3,9 +3,11 @@
 // against an independent RK4 solution, and the Stokes-torque decay of a spin
 // (spec/sedimentation.md section 1).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "tsubu/scenario/scenario.hpp"
@@ -185,6 +187,30 @@ TEST(SettlingExamples, OneMillimetreScenarioReachesTerminalSpeed) {
   for (std::int64_t k = 0; k < steps; ++k) advance(sc.integrator, w, f);
   const double ut = terminal_speed(Sphere(1e-3));
   EXPECT_NEAR(-w.particles.velocity[0].z, ut, 0.005 * ut);
+}
+
+// The fluid forces are per particle, so 1 and 2 threads still give the same bits (a
+// collapsing lattice in water, with spin lift).
+TEST(FluidThreads, OneAndTwoThreadsGiveIdenticalBits) {
+  auto run = [](int threads) {
+    const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/lattice_threads.toml",
+                                      {"fluid.density=1000", "fluid.kinematic_viscosity=1e-6", "fluid.lift=\"loth\""});
+    omp_set_num_threads(threads);
+    World w = build_world(sc);
+    ForceField f;
+    f.compute(w);
+    for (int k = 0; k < 100; ++k) advance(sc.integrator, w, f);
+    omp_set_num_threads(1);
+    return w;
+  };
+  const World one = run(1), two = run(2);
+  ASSERT_TRUE(one.fluid.enabled);
+  auto same = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+  };
+  EXPECT_TRUE(same(one.particles.position, two.particles.position));
+  EXPECT_TRUE(same(one.particles.velocity, two.particles.velocity));
+  EXPECT_TRUE(same(one.particles.omega, two.particles.omega));
 }
 
 }  // namespace
