@@ -703,24 +703,30 @@ def main():
             shutil.rmtree(work, ignore_errors=True)
     elapsed = time.perf_counter() - t_start
 
-    # ---- report and checks
-    print(f"energy-contact validation ({'quick' if args.quick else 'full'}): {runner.count} runs, "
+    # ---- report and checks (also written to OUT/summary.txt)
+    report = []
+
+    def say(line):
+        print(line)
+        report.append(line)
+
+    say(f"energy-contact validation ({'quick' if args.quick else 'full'}): {runner.count} runs, "
           f"{elapsed:.1f} s; results in {res}")
-    print("A3 contact duration in steps (dt = 1e-3 / 1e-4 / 1e-5; paper in brackets):")
+    say("A3 contact duration in steps (dt = 1e-3 / 1e-4 / 1e-5; paper in brackets):")
     for conv in ("scaled", "fixed"):
         line = "  ".join(f"{m} {'/'.join(str(a3[(conv, m, dt)]) for dt in (1e-3, 1e-4, 1e-5))} "
                          f"[{'/'.join(map(str, PAPER_TABLE2[m]))}]" for m in MODELS)
-        print(f"  {conv:6s}: {line}")
+        say(f"  {conv:6s}: {line}")
     for conv in ("scaled", "fixed"):
         got = [a3[(conv, "P", dt)] for dt in (1e-3, 1e-4, 1e-5)]
         if got != [P_STEPS] * 3:
             failures.append(f"A3: model P's contact lasts {'/'.join(map(str, got))} steps at dt = 1e-3/1e-4/1e-5 "
                             f"({conv} stiffness); the spec requires 3/3/3")
-    print(f"A1 slow impact, energy ratio per bounce N = 1..{N_CHECK} (apex H; collision E):")
+    say(f"A1 slow impact, energy ratio per bounce N = 1..{N_CHECK} (apex H; collision E):")
     for m in MODELS:
         b = [x for x in a1[m] if x["N"] <= N_CHECK]
-        print(f"  {m}: apex " + " ".join(f"{x['ratio_apex']:.4f}" for x in b))
-        print(f"     coll " + " ".join(f"{x['ratio_collision']:.4f}" for x in b))
+        say(f"  {m}: apex " + " ".join(f"{x['ratio_apex']:.4f}" for x in b))
+        say(f"     coll " + " ".join(f"{x['ratio_collision']:.4f}" for x in b))
     bad = [x for x in a1["P"] if x["N"] <= N_CHECK and not abs(x["ratio_apex"] - E_REST**2) <= TOL_ENERGY * E_REST**2]
     if len([x for x in a1["P"] if x["N"] <= N_CHECK]) < N_CHECK:
         failures.append(f"A1: model P bounced fewer than {N_CHECK} times")
@@ -731,34 +737,37 @@ def main():
             f"{', '.join(str(x['N']) for x in bad)} (worst N = {worst['N']}: {worst['ratio_apex']:.4f}, impact "
             f"{worst['impact_speed']:.3g} m/s); measured just before/after the collision it is "
             f"{worst['ratio_collision']:.4f} (see docs/validation/energy-contact.md, 'energy ratio')")
-    print("A5 three spheres, relative errors (T0, final speed):")
+    say("A5 three spheres, relative errors (T0, final speed):")
     for key in sorted(a5):
         conv, m, dt = key
         if args.quick or dt in (1e-3, 1e-4, 1e-5, 1e-6):
             T0, V, eT, eV = a5[key]
-            print(f"  {conv:6s} {m} dt={dt:g}: T0 {T0:.6f} s ({eT:+.2e}), V {V:.6f} m/s ({eV:+.2e})")
+            say(f"  {conv:6s} {m} dt={dt:g}: T0 {T0:.6f} s ({eT:+.2e}), V {V:.6f} m/s ({eV:+.2e})")
     T0, V, eT, eV = a5[("scaled", "P", 1e-5)]
     if not (abs(eT) <= TOL_THREE and abs(eV) <= TOL_THREE):
         failures.append(f"A5: model P at dt = 1e-5: T0 = {T0:.6f} s ({eT:+.2%}), final speed {V:.6f} m/s "
                         f"({eV:+.2%}); exact {T0_EXACT:.6f} s and {V_EXACT:.6f} m/s, tolerance 0.5%")
     outcomes, ratios, _ = a2
-    print("A2 fast impact (outcome, first collision energy ratio):")
+    say("A2 fast impact (outcome, first collision energy ratio):")
     for sp, m, nb, o, r1, dmax in outcomes:
-        print(f"  {sp} m/s {m}: {o}; bounces {nb}; first e2 {r1:.4f}; first contact max d {dmax:.3f}")
-    print("A4 cost (wall time s, contact evaluations, steps):")
+        say(f"  {sp} m/s {m}: {o}; bounces {nb}; first e2 {r1:.4f}; first contact max d {dmax:.3f}")
+    say("A4 cost (wall time s, contact evaluations, steps):")
     for m in MODELS:
         w, ev, st = a4[m]
-        print(f"  {m}: {w:.2f} s, {ev} evaluations, {st} steps")
+        say(f"  {m}: {w:.2f} s, {ev} evaluations, {st} steps")
     for line in log:
-        print("note: " + line)
+        say("note: " + line)
+    if failures:
+        say("FAILED:")
+        for f in failures:
+            say("  " + f)
+    else:
+        say("all checks passed")
+    (res / "summary.txt").write_text("\n".join(report) + "\n")
     if tmp and not args.out:
         shutil.rmtree(tmp, ignore_errors=True)
     if failures:
-        print("FAILED:")
-        for f in failures:
-            print("  " + f)
         return 1 if args.quick else 0
-    print("all checks passed" if args.quick else "done")
     return 0
 
 

@@ -236,6 +236,18 @@ void ForceField::accumulate(World& world) {
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
       Vec3 force = p.mass[i] * world.gravity, torque, shift;
+      if (world.fluid.enabled) {
+        // The still fluid: per particle, from the velocity the integrator has now (the
+        // half-step velocity within velocity Verlet). The added mass is refreshed here too,
+        // so particles added at any time get it.
+        const double d = 2 * p.radius[i];
+        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+        force += fl.force;
+        torque += fl.torque;
+        p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
+      } else {
+        p.translational_mass[i] = p.mass[i];
+      }
       int count = 0;
       const Results& pr = pair_results_;
       for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {

@@ -1,4 +1,5 @@
-// Computes the force and torque on every particle: gravity plus all pair and wall contacts.
+// Computes the force and torque on every particle: gravity, the still fluid's forces
+// (World::fluid) and all pair and wall contacts.
 #pragma once
 #include <cstdint>
 #include <vector>

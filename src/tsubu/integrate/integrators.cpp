@@ -11,7 +11,7 @@ namespace {
 
 void kick(Particles& p, double h) {
   parallel_for(p.size(), [&](std::size_t i) {
-    p.velocity[i] += p.force[i] * (h / p.mass[i]);
+    p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
     p.omega[i] += p.torque[i] * (h / p.inertia[i]);
   });
 }

@@ -9,6 +9,7 @@ namespace tsubu {
 
 enum class Integrator { symplectic_euler, velocity_verlet };
 
+// Forces are divided by the translational mass (mass plus the fluid's added mass).
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
 void symplectic_euler_step(World& world, ForceField& forces);
 

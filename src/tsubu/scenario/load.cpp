@@ -310,6 +310,42 @@ void read_output(Section s, Scenario& sc) {
   s.finish();
 }
 
+// One column of [fluid.kurose_komori]: absent means zero at every point.
+std::vector<double> eta_column(Section& s, std::string_view key, std::size_t n) {
+  if (!s.has(key)) return std::vector<double>(n, 0.0);
+  std::vector<double> v = s.reals(key);
+  if (v.size() != n) s.fail(key, "must have one value per entry of re (" + std::to_string(n) + "), got " + std::to_string(v.size()));
+  return v;
+}
+
+void read_fluid(Section s, Scenario& sc) {
+  Fluid& f = sc.fluid;
+  f.enabled = true;
+  f.density = s.positive("density");
+  f.viscosity = s.positive("kinematic_viscosity");
+  f.buoyancy = s.flag("buoyancy", true);
+  f.drag = s.flag("drag", true);
+  f.added_mass = s.flag("added_mass", true);
+  f.stokes_torque = s.flag("stokes_torque", true);
+  const std::string lift = s.choice("lift", {"none", "kurose_komori", "loth"}, "none");
+  f.lift = lift == "kurose_komori" ? SpinModel::kurose_komori : lift == "loth" ? SpinModel::loth : SpinModel::none;
+  if (auto t = s.table("kurose_komori")) {
+    if (f.lift != SpinModel::kurose_komori)
+      s.fail("kurose_komori", "the eta tables are used only with fluid.lift = \"kurose_komori\"");
+    f.eta.re = t->reals("re");
+    if (f.eta.re.empty()) t->fail("re", "must hold at least one Reynolds number");
+    for (std::size_t k = 0; k < f.eta.re.size(); ++k) {
+      if (!(f.eta.re[k] >= 0)) t->fail("re", "Reynolds numbers must be >= 0" + got(f.eta.re[k]));
+      if (k > 0 && !(f.eta.re[k] > f.eta.re[k - 1])) t->fail("re", "must increase strictly");
+    }
+    f.eta.eta1 = eta_column(*t, "eta1", f.eta.re.size());
+    f.eta.eta2 = eta_column(*t, "eta2", f.eta.re.size());
+    f.eta.eta3 = eta_column(*t, "eta3", f.eta.re.size());
+    t->finish();
+  }
+  s.finish();
+}
+
 void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
   const std::string type = s.choice("type", {"solid_fraction", "coordination"}, std::nullopt);
@@ -353,6 +389,7 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
   for (Section m : top.tables("materials")) read_material(m, sc);
   if (sc.materials.empty()) top.fail("materials", "at least one [[materials]] entry is required");
   if (auto c = top.table("contact")) read_contact(*c, sc);
+  if (auto f = top.table("fluid")) read_fluid(*f, sc);
   for (Section w : top.tables("walls")) read_wall(w, sc);
   for (Section p : top.tables("particles")) read_particles(p, sc, folder);
   if (sc.sources.empty()) top.fail("particles", "at least one [[particles]] source is required");

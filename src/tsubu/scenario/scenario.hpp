@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tsubu/contact/law.hpp"
+#include "tsubu/fluid/fluid.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
@@ -61,6 +62,7 @@ struct Scenario {
   double duration = 0, dt = 0;
   Integrator integrator = Integrator::velocity_verlet;
   Vec3 gravity{0, 0, -9.81};
+  Fluid fluid;  // [fluid]; absent: no fluid
   std::uint64_t seed = 1;
   double overlap_limit = 0.1;
   double skin = 0;  // m, neighbour-list margin; 0: a tenth of the smallest diameter

@@ -64,6 +64,7 @@ World build_world(const Scenario& sc) {
   w.materials = sc.materials;
   w.walls = sc.walls;
   w.gravity = sc.gravity;
+  w.fluid = sc.fluid;
   w.dt = sc.dt;
   w.overlap_limit = sc.overlap_limit;
   w.skin = sc.skin;

@@ -13,6 +13,9 @@ struct Particles {
   std::vector<int> material;          // index into World::materials
   std::vector<double> radius;         // m
   std::vector<double> mass;           // kg
+  std::vector<double> translational_mass;  // kg, mass + the fluid's added mass C_M rho_f V: the
+                                           // inertia the integrators divide forces by (set by
+                                           // ForceField::compute from World::fluid)
   std::vector<double> inertia;        // kg m^2, solid sphere: 2/5 m R^2
   std::vector<Vec3> position;         // m
   std::vector<Vec3> velocity;         // m/s
@@ -30,6 +33,7 @@ struct Particles {
     material.push_back(mat);
     radius.push_back(r);
     mass.push_back(m);
+    translational_mass.push_back(m);
     inertia.push_back(0.4 * m * r * r);
     position.push_back(x);
     velocity.push_back(v);

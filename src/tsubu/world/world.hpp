@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "tsubu/contact/law.hpp"
+#include "tsubu/fluid/fluid.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
@@ -26,6 +27,7 @@ struct World {
   Particles particles;
   LawTable laws;
   Vec3 gravity;            // m/s^2
+  Fluid fluid;             // still fluid around the particles; disabled by default
   double dt = 0;           // s
   double time = 0;         // s
   std::int64_t step = 0;

@@ -1,0 +1,73 @@
+// Forces and torques of a still fluid on a sphere (the fluid is at rest everywhere), their
+// exact time derivatives for higher-order integrators, and Rubey's settling speed.
+// Definitions: docs/engine.md, "Fluid forces"; keys: docs/scenario.md, [fluid].
+#pragma once
+#include <vector>
+
+#include "tsubu/core/vec3.hpp"
+
+namespace tsubu {
+
+// How a spinning sphere's drag and lift are modelled.
+enum class SpinModel {
+  none,           // no lift, no drag correction
+  kurose_komori,  // C_D (1 + eta1 W^0.5 + eta2 W^4), C_L = eta3 W, W = Omega* held at 0.5
+  loth            // Loth (2008) spin lift, no drag correction
+};
+
+// eta1..eta3 of the Kurose-Komori correction as functions of Re: piecewise linear between
+// the points, held constant outside them. Empty: all zero (no correction).
+struct EtaTable {
+  std::vector<double> re, eta1, eta2, eta3;
+};
+
+struct Fluid {
+  bool enabled = false;     // false: no fluid at all (every force and the added mass are zero)
+  double density = 0;       // kg/m^3
+  double viscosity = 0;     // m^2/s, kinematic
+  bool buoyancy = true;     // -rho_f V g
+  bool drag = true;         // Schiller-Naumann, capped at 0.44 above Re = 1000
+  bool added_mass = true;   // extra translational inertia C_M rho_f V
+  bool stokes_torque = true;  // -pi rho_f nu d^3 omega
+  SpinModel lift = SpinModel::none;
+  EtaTable eta;  // used by SpinModel::kurose_komori
+
+  static constexpr double added_mass_coefficient = 0.5;  // C_M of a sphere in still fluid
+  static constexpr double drag_cap_re = 1000;            // Re above which C_D = 0.44
+
+  // C_M rho_f V of a sphere of this diameter (0 without fluid or without added mass), kg.
+  double added_mass_of(double diameter) const;
+};
+
+// Force (buoyancy + drag + lift) and torque of the fluid on one sphere.
+struct FluidLoad {
+  Vec3 force, torque;
+};
+
+// The fluid's force and torque on a sphere of diameter d moving with velocity u and spin
+// omega through the still fluid, under gravity g. Gravity itself (m g) is not included.
+FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega);
+
+// d/dt of fluid_load along a trajectory with du/dt = a and domega/dt = alpha (the jerk of
+// the fluid force and the rate of its torque). Exact derivatives of the same expressions
+// (forward-mode differentiation), so force and rate never disagree. At u = 0 the drag rate
+// is the limit -f(0) a; at omega = 0 exactly the spin terms' rates are taken as zero (the
+// Kurose-Komori W^0.5 term has an unbounded rate there).
+FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
+                          const Vec3& alpha);
+
+// Schiller-Naumann C_D(Re) = 24/Re (1 + 0.15 Re^0.687) for Re <= 1000, 0.44 above.
+double drag_coefficient(double re);
+
+// Loth (2008) spin lift coefficient for the spin ratio rr = d|omega|/|u|.
+double loth_lift_coefficient(double re, double rr);
+
+// Value of an eta table column at re (piecewise linear, constant outside the points).
+double eta_at(const std::vector<double>& re_points, const std::vector<double>& values, double re);
+
+// Rubey (1933) settling speed of a natural grain, m/s:
+//   u / sqrt((s-1) g d) = sqrt(2/3 + 36/d*) - sqrt(36/d*),  d* = (s-1) g d^3 / nu^2,  s = rho_p/rho_f.
+// g is the magnitude of gravity.
+double rubey_speed(double rho_particle, double rho_fluid, double viscosity, double d, double g);
+
+}  // namespace tsubu
