@@ -342,6 +342,27 @@ TEST(Resume, NumericalFailureKeepsTheLastGoodCheckpoint) {
   EXPECT_EQ(list_checkpoints(out / "checkpoint").front(), files[0]) << "the failing state must not be checkpointed";
 }
 
+// Without frames (vtk_interval = 0) or tracked particles there is no .pvd or track.csv:
+// checkpoints must still be written, and a finished run resumes to the same result.
+TEST(Resume, WithoutFramesOrTrackAndOfAFinishedRun) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(run({"run", (kScenarios / "valid_small.toml").string(), "--out", out.string(), "--set",
+                 "simulation.duration=0.005", "--set", "output.vtk_interval=0", "--set", "output.checkpoint_every_steps=300"},
+                dir.path() / "run.log"),
+            0)
+      << slurp(dir.path() / "run.log");
+  EXPECT_EQ(slurp(dir.path() / "run.log").find("warning"), std::string::npos) << slurp(dir.path() / "run.log");
+  const auto files = list_checkpoints(out / "checkpoint");
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(read_checkpoint(files[0]).step, 1000);
+  EXPECT_EQ(read_checkpoint(files[1]).step, 900);
+  const std::string series = slurp(out / "series.csv");
+  ASSERT_EQ(run({"resume", out.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_NE(slurp(out / "run.json").find("\"status\": \"ok\""), std::string::npos);
+}
+
 TEST(Resume, AFolderWithoutCheckpointsIsAnError) {
   TempDir dir;
   ASSERT_EQ(run({"resume", dir.path().string()}, dir.path() / "log"), 1);

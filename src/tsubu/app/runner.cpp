@@ -210,7 +210,7 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
       sync_file(series_path);
       if (track.is_open()) sync_file(track_path);
       for (const auto& f : unsynced_frames) sync_file(f);
-      sync_file(fs::path(out_dir) / "vtk" / "particles.pvd");
+      if (!pvd.frames().empty()) sync_file(fs::path(out_dir) / "vtk" / "particles.pvd");
       unsynced_frames.clear();
       write_checkpoint(ckpt_dir, c);
       checkpoint_step = world.step;
