@@ -49,7 +49,7 @@ class Writer {
   }
   template <class T>
   void array(const std::vector<T>& v) {  // the count is written once, before all arrays
-    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
   void contacts(const std::vector<Contact>& list) {
     u64(list.size());
@@ -91,7 +91,7 @@ class Reader {
   void array(std::vector<T>& v, std::size_t n) {
     need(n * sizeof(T));
     v.resize(n);
-    std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
+    if (n > 0) std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));  // data() may be null
     pos_ += n * sizeof(T);
   }
   void contacts(std::vector<Contact>& list) {
@@ -99,7 +99,9 @@ class Reader {
     for (Contact& c : list) {
       c.i = pod<std::uint32_t>();
       c.j = pod<std::uint32_t>();
-      c.touching = pod<std::uint8_t>() != 0;
+      const auto touching = pod<std::uint8_t>();
+      if (touching > 1) throw CheckpointError("a contact's touching flag is neither 0 nor 1");
+      c.touching = touching == 1;
       c.history.xi = pod<Vec3>();
       for (double& h : c.history.normal) h = pod<double>();
     }
