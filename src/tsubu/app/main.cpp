@@ -1,5 +1,5 @@
 // The `tsubu` command line (docs/cli.md). Exit codes: 0 ok, 1 other error, 2 bad input,
-// 3 numerical failure.
+// 3 numerical failure, 4 stopped by SIGINT/SIGTERM (a checkpoint was written).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -31,8 +31,23 @@ int main(int argc, char** argv) {
   check->add_option("scenario", scenario_path, "scenario file (TOML)")->required();
   check->add_option("--set", overrides, "override a scenario value: key.path=value (TOML value)");
 
+  std::string resume_dir;
+  auto* resume = app.add_subcommand("resume", "continue an interrupted run from its newest valid checkpoint");
+  resume->add_option("dir", resume_dir, "the run's output folder (holding checkpoint/)")->required();
+  resume->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (resume->parsed()) {
+#ifdef _OPENMP
+      omp_set_num_threads(threads);
+#endif
+      const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true);
+      std::printf("resumed: %lld steps of %zu particles; output in %s\n", static_cast<long long>(s.steps), s.particles,
+                  resume_dir.c_str());
+      for (const auto& [k, v] : s.results) std::printf("  %s = %.6g\n", k.c_str(), v);
+      return 0;
+    }
     const tsubu::Scenario sc = tsubu::load_scenario(scenario_path, overrides);
     if (check->parsed()) {
       const tsubu::World w = tsubu::build_world(sc);
@@ -57,6 +72,9 @@ int main(int argc, char** argv) {
   } catch (const tsubu::NumericalError& e) {
     std::fprintf(stderr, "numerical failure: %s\n", e.what());
     return 3;
+  } catch (const tsubu::Interrupted& e) {
+    std::fprintf(stderr, "\ninterrupted: %s\n", e.what());
+    return 4;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

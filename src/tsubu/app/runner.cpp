@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,8 +12,10 @@
 #include <unistd.h>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/vtk.hpp"
+#include "tsubu/scenario/scenario.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
 
@@ -58,29 +61,74 @@ void write_run_json(const std::string& path, const Scenario& sc, int threads, co
 
 }  // namespace
 
-RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress) {
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+
+// SIGINT and SIGTERM ask the loop to stop after the current step with a final checkpoint;
+// a second one acts as usual (SA_RESETHAND). The previous handlers return afterwards.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+// The time loop from world's state: from step 0 (from == nullptr; forces not yet computed)
+// or from a checkpoint whose world state, forces included, is already in `world`.
+RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const std::string& out_dir, int threads,
+                   bool progress, const Checkpoint* from) {
   namespace fs = std::filesystem;
   fs::create_directories(fs::path(out_dir) / "vtk");
-  World world = build_world(sc);
-  ForceField forces;
+  const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
   RunSummary summary;
   summary.particles = world.particles.size();
 
-  std::ofstream series(fs::path(out_dir) / "series.csv");
   // Moving walls add two columns each: the displacement of the plane along its normal and
   // the load the particles put on it.
   std::vector<std::size_t> moving;
-  for (std::size_t k = 0; k < world.walls.size(); ++k)
-    if (!world.walls[k].motion.empty()) moving.push_back(k);
-  const std::vector<Vec3> wall_start = [&] {
-    std::vector<Vec3> v;
-    for (const Wall& w : world.walls) v.push_back(w.point);
-    return v;
-  }();
-  series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
-  for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
-  series << '\n' << std::setprecision(12);
+  for (std::size_t k = 0; k < sc.walls.size(); ++k)
+    if (!sc.walls[k].motion.empty()) moving.push_back(k);
+  // Output files: fresh, or cut back to their size at the checkpoint (rows written after it
+  // are written again, the same bits).
+  auto reopen = [&](std::ofstream& f, const fs::path& path, std::uint64_t bytes) {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec || size < bytes)
+      throw std::runtime_error(path.string() + " is missing or shorter than at the checkpoint (" + std::to_string(bytes) +
+                               " bytes): cannot continue it");
+    fs::resize_file(path, bytes);
+    f.open(path, std::ios::app);
+  };
+  const fs::path series_path = fs::path(out_dir) / "series.csv", track_path = fs::path(out_dir) / "track.csv";
+  std::ofstream series;
+  if (from) {
+    reopen(series, series_path, from->output.series_bytes);
+  } else {
+    series.open(series_path);
+    series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
+    for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
+    series << '\n';
+  }
+  series << std::setprecision(12);
   PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
+  if (from) pvd.restore(from->output.pvd);
   std::vector<std::size_t> tracked;  // indices of the tracked particle ids
   for (std::int64_t id : sc.output.track) {
     const auto it = std::find(world.particles.id.begin(), world.particles.id.end(), id);
@@ -92,8 +140,13 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   }
   std::ofstream track;
   if (!tracked.empty()) {
-    track.open(fs::path(out_dir) / "track.csv");
-    track << "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n" << std::setprecision(17);
+    if (from) {
+      reopen(track, track_path, from->output.track_bytes);
+    } else {
+      track.open(track_path);
+      track << "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n";
+    }
+    track << std::setprecision(17);
   }
   auto write_track = [&] {
     const Particles& p = world.particles;
@@ -104,64 +157,147 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
             << p.contact_count[i] << '\n';
     }
   };
-  int frame = 0;
+  std::int64_t frame = from ? from->output.frame : 0;
+  std::vector<fs::path> unsynced_frames;  // frames written since the last checkpoint
   auto write_series = [&] {
     const Energies e = energies(world);
     const ContactTotals c = forces.totals(world);
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
            << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
     for (std::size_t k : moving)
-      series << ',' << dot(world.walls[k].point - wall_start[k], world.walls[k].normal) << ','
+      series << ',' << dot(world.walls[k].point - sc.walls[k].point, world.walls[k].normal) << ','
              << forces.wall_load(world, k);
     series << '\n';
   };
   auto write_frame = [&] {
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%05d.vtu", frame++);
-    write_vtu((fs::path(out_dir) / "vtk" / name).string(), world.particles);
+    char name[40];
+    std::snprintf(name, sizeof name, "frame_%05lld.vtu", static_cast<long long>(frame++));
+    const fs::path file = fs::path(out_dir) / "vtk" / name;
+    write_vtu(file.string(), world.particles);
     pvd.add(world.time, name);
+    unsynced_frames.push_back(file);
   };
 
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   const std::int64_t series_every = every(sc.output.series_interval, sc.dt);
   const std::int64_t vtk_every = sc.output.vtk_interval > 0 ? every(sc.output.vtk_interval, sc.dt) : 0;
   const std::int64_t track_every = every(sc.output.track_interval, sc.dt);
+  const std::int64_t ckpt_every = sc.output.checkpoint_every_steps;
+  const double ckpt_seconds = sc.output.checkpoint_every_seconds;
+  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0;
   const bool show_progress = progress && isatty(STDERR_FILENO);
+  const double wall_before = from ? from->wall_seconds : 0.0;  // earlier sessions
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  double next_progress = 0.5;
+  double next_progress = 0.5, last_checkpoint = 0;
+  std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
+
+  // Everything after a completed step; output files are flushed and synced first, so a
+  // checkpoint never refers to rows that are not on disk.
+  auto save_checkpoint = [&] {
+    series.flush();
+    if (track.is_open()) track.flush();
+    if (!series || (track.is_open() && !track)) throw std::runtime_error("cannot write series.csv or track.csv in " + out_dir);
+    Checkpoint c;
+    c.engine_version = kVersion;
+    c.scenario_path = sc.file;
+    c.scenario_text = sc.text;
+    c.overrides = sc.overrides;
+    c.scenario_hash = sc.hash;
+    c.step = world.step;
+    c.time = world.time;
+    c.dt = world.dt;
+    c.evaluations = forces.evaluations();
+    c.rebuilds = forces.rebuilds();
+    c.wall_seconds = wall_before + elapsed();
+    c.output.frame = frame;
+    c.output.pvd = pvd.frames();
+    c.output.series_bytes = fs::file_size(series_path);
+    c.output.track_bytes = track.is_open() ? fs::file_size(track_path) : 0;
+    c.particles = world.particles;
+    c.pair_contacts = world.pair_contacts;
+    c.wall_contacts = world.wall_contacts;
+    c.wall_points.clear();
+    c.wall_velocities.clear();
+    for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
+    try {
+      sync_file(series_path);
+      if (track.is_open()) sync_file(track_path);
+      for (const auto& f : unsynced_frames) sync_file(f);
+      if (!pvd.frames().empty()) sync_file(fs::path(out_dir) / "vtk" / "particles.pvd");
+      unsynced_frames.clear();
+      write_checkpoint(ckpt_dir, c);
+      checkpoint_step = world.step;
+    } catch (const std::exception& e) {
+      // A run is worth more than its checkpoint: say so and carry on.
+      std::fprintf(stderr, "\ntsubu: warning: no checkpoint at step %lld: %s\n", static_cast<long long>(world.step), e.what());
+    }
+    last_checkpoint = elapsed();
+  };
+  auto finish_summary = [&] {
+    summary.steps = world.step;
+    summary.wall_seconds = wall_before + elapsed();
+    summary.contact_evaluations = forces.evaluations();
+  };
 
   const std::string json = (fs::path(out_dir) / "run.json").string();
+  if (checkpoints && !from) {
+    fs::create_directories(ckpt_dir);
+    // For people: the scenario as run (the checkpoints hold their own copy).
+    write_file_atomically(ckpt_dir / "scenario.toml", sc.text);
+    std::string sets;
+    for (const auto& o : sc.overrides) sets += o + "\n";
+    write_file_atomically(ckpt_dir / "overrides.txt", sets);
+  }
+  StopSignals stop_signals;
   try {
-    forces.compute(world);
-    write_series();
-    write_track();
-    if (vtk_every) write_frame();
-    for (std::int64_t s = 1; s <= steps; ++s) {
+    if (!from) {
+      forces.compute(world);
+      write_series();
+      write_track();
+      if (vtk_every) write_frame();
+    }
+    for (std::int64_t s = world.step + 1; s <= steps; ++s) {
       advance(sc.integrator, world, forces);
       if (s % series_every == 0 || s == steps) write_series();
       if (s % track_every == 0 || s == steps) write_track();
       if (vtk_every && (s % vtk_every == 0 || s == steps)) write_frame();
+      if (g_signal != 0) {
+        const int sig = g_signal;
+        save_checkpoint();
+        finish_summary();
+        std::ostringstream msg;
+        msg << "stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM") << " after step " << world.step << " (t = " << world.time
+            << " s); " << (checkpoint_step == world.step ? "a checkpoint of this step is" : "the newest checkpoint is")
+            << " in " << ckpt_dir.string() << ": `tsubu resume " << out_dir << "` continues the run";
+        write_run_json(json, sc, threads, summary, "interrupted", msg.str());
+        throw Interrupted(msg.str());
+      }
+      if (s < steps && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
+        save_checkpoint();
       if (show_progress && elapsed() > next_progress) {
         next_progress = elapsed() + 0.5;
-        const double rate = static_cast<double>(s) / elapsed();
+        const double rate = static_cast<double>(s - (from ? from->step : 0)) / elapsed();
         std::fprintf(stderr, "\r t = %.4g s  %5.1f%%  %.3g steps/s  ETA %.0f s   ", world.time, 100.0 * static_cast<double>(s) / static_cast<double>(steps), rate,
                      static_cast<double>(steps - s) / rate);
       }
     }
   } catch (const NumericalError& e) {
-    summary.steps = world.step;
-    summary.wall_seconds = elapsed();
-    summary.contact_evaluations = forces.evaluations();
+    // Nothing of the failing state goes into a checkpoint: the last good one stays.
+    finish_summary();
     series.flush();
     write_frame();
-    write_run_json(json, sc, threads, summary, "failed", e.what());
-    throw;
+    std::string msg = e.what();
+    if (checkpoint_step >= 0)
+      msg += "; the last good checkpoint (step " + std::to_string(checkpoint_step) + ") is kept in " + ckpt_dir.string();
+    else
+      msg += "; no checkpoint was written before the failure";
+    write_run_json(json, sc, threads, summary, "failed", msg);
+    throw NumericalError(msg);
   }
   if (show_progress) std::fprintf(stderr, "\n");
-  summary.steps = world.step;
-  summary.wall_seconds = elapsed();
-  summary.contact_evaluations = forces.evaluations();
+  if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
+  finish_summary();
   for (const auto& a : sc.analyses) {
     if (a.kind == AnalysisSpec::Kind::solid_fraction) {
       summary.results[a.name] = solid_fraction(world, a.z_low, a.z_high);
@@ -172,6 +308,64 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   }
   write_run_json(json, sc, threads, summary, "ok", "");
   return summary;
+}
+
+}  // namespace
+
+RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress) {
+  World world = build_world(sc);
+  ForceField forces;
+  return execute(sc, world, forces, out_dir, threads, progress, nullptr);
+}
+
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(out_dir) / "checkpoint";
+  const auto files = list_checkpoints(dir);
+  if (files.empty()) throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume");
+  Checkpoint c;
+  fs::path used;
+  for (const auto& f : files) {
+    try {
+      c = read_checkpoint(f);
+      used = f;
+      break;
+    } catch (const CheckpointError& e) {
+      // Kept for inspection, out of the way of the next checkpoints.
+      std::error_code ec;
+      fs::rename(f, f.string() + ".damaged", ec);
+      std::fprintf(stderr, "tsubu: checkpoint %s is unusable (%s); renamed to *.damaged, trying the previous one\n",
+                   f.string().c_str(), e.what());
+    }
+  }
+  if (used.empty()) throw std::runtime_error("no valid checkpoint in " + dir.string() + ": cannot resume");
+  if (c.engine_version != kVersion)
+    std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
+                 used.string().c_str(), c.engine_version.c_str(), kVersion);
+  const Scenario sc = load_scenario_text(c.scenario_text, c.scenario_path, c.overrides, false);
+  if (sc.hash != c.scenario_hash || sc.dt != c.dt)
+    throw std::runtime_error(used.string() + " does not match the scenario it stores (hash or dt differ)");
+  World world = build_empty_world(sc);
+  world.particles = std::move(c.particles);
+  world.pair_contacts = std::move(c.pair_contacts);
+  world.wall_contacts = std::move(c.wall_contacts);
+  world.step = c.step;
+  world.time = c.time;
+  for (const Contact& k : world.wall_contacts)
+    if (k.j >= world.walls.size()) throw std::runtime_error(used.string() + ": a wall contact names a wall the scenario lacks");
+  if (c.wall_points.size() != world.walls.size())
+    throw std::runtime_error(used.string() + ": it stores " + std::to_string(c.wall_points.size()) +
+                             " walls, the scenario has " + std::to_string(world.walls.size()));
+  for (std::size_t k = 0; k < world.walls.size(); ++k)
+    world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
+  ForceField forces;  // lists rebuilt from the stored contacts at the next step; forces are NOT recomputed
+  forces.restore_counters(c.evaluations, c.rebuilds);
+  std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
+               static_cast<long long>(c.step), c.time);
+  c.particles = {};
+  c.pair_contacts.clear();
+  c.wall_contacts.clear();
+  return execute(sc, world, forces, out_dir, threads, progress, &c);
 }
 
 }  // namespace tsubu

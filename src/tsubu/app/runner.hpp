@@ -1,6 +1,7 @@
 // The time loop with its observers: time series, VTK frames, progress line, run.json.
 #pragma once
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include "tsubu/scenario/scenario.hpp"
@@ -15,8 +16,21 @@ struct RunSummary {
   std::map<std::string, double> results;
 };
 
-// Runs the scenario, writing into out_dir. Throws NumericalError (after writing run.json
-// with the diagnostic and a last VTK frame) when the simulation fails.
+// SIGINT or SIGTERM stopped the run after writing a checkpoint and run.json (exit code 4).
+class Interrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Runs the scenario, writing into out_dir, with checkpoints in out_dir/checkpoint as the
+// scenario's [output] asks. Throws NumericalError (after writing run.json with the
+// diagnostic and a last VTK frame; checkpoints are left as they were) when the simulation
+// fails, and Interrupted on SIGINT/SIGTERM.
 RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, int threads, bool progress);
+
+// Continues the run in out_dir from its newest valid checkpoint (older ones are tried when
+// the newest is damaged), with the scenario and overrides stored in the checkpoint; the
+// outputs end equal to those of an uninterrupted run.
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress);
 
 }  // namespace tsubu

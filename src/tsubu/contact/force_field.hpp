@@ -34,6 +34,9 @@ class ForceField {
   double wall_load(const World& world, std::size_t wall) const;
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
+  // Resuming from a checkpoint: the counters continue; the lists are rebuilt on the next
+  // compute from world's contact lists (results do not depend on when lists are built).
+  void restore_counters(std::uint64_t evaluations, std::uint64_t rebuilds) { evaluations_ = evaluations, rebuilds_ = rebuilds; }
 
  private:
   // Per-contact results, one array per quantity (zeros for pairs that do not touch);

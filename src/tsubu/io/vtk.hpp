@@ -16,6 +16,10 @@ class PvdIndex {
   explicit PvdIndex(std::string path) : path_(std::move(path)) {}
   // Adds a frame (file name relative to the .pvd) and rewrites the index.
   void add(double time, const std::string& file);
+  // The frames so far, and setting them again when a run resumes (the file is rewritten at
+  // the next add).
+  const std::vector<std::pair<double, std::string>>& frames() const { return frames_; }
+  void restore(std::vector<std::pair<double, std::string>> frames) { frames_ = std::move(frames); }
 
  private:
   std::string path_;

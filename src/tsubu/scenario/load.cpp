@@ -265,7 +265,7 @@ void read_region(Section& s, ParticleSource& src, const Domain& domain) {
   src.velocity = s.vec3("velocity", {});
 }
 
-void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder) {
+void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {
   ParticleSource src;
   src.where = {s.file(), s.line(), s.path()};
   const std::string kind = s.choice("source", {"csv", "lattice", "random"}, std::nullopt);
@@ -274,7 +274,7 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     src.kind = ParticleSource::Kind::csv;
     const std::filesystem::path f = s.text("file");
     src.file = (f.is_absolute() ? f : folder / f).lexically_normal().string();
-    if (!std::filesystem::is_regular_file(src.file)) s.fail("file", "no such file \"" + src.file + "\" (relative paths start at the scenario's folder)");
+    if (particle_files && !std::filesystem::is_regular_file(src.file)) s.fail("file", "no such file \"" + src.file + "\" (relative paths start at the scenario's folder)");
     src.overlap_tolerance = s.real("overlap_tolerance", 0.01);
     if (src.overlap_tolerance < 0) s.fail("overlap_tolerance", "must be >= 0 (a fraction of the smaller diameter)" + got(src.overlap_tolerance));
   } else if (kind == "lattice") {
@@ -306,6 +306,10 @@ void read_output(Section s, Scenario& sc) {
   sc.output.track = s.integers("track", {});
   sc.output.track_interval = s.real("track_interval", sc.output.series_interval);
   if (sc.output.track_interval < 0) s.fail("track_interval", "must be >= 0 (0 writes every step)");
+  sc.output.checkpoint_every_steps = s.integer("checkpoint_every_steps", 0);
+  if (sc.output.checkpoint_every_steps < 0) s.fail("checkpoint_every_steps", "must be >= 0 (0: none by step count)");
+  sc.output.checkpoint_every_seconds = s.real("checkpoint_every_seconds", 600);
+  if (!(sc.output.checkpoint_every_seconds >= 0)) s.fail("checkpoint_every_seconds", "must be >= 0 (0: none by wall-clock time)");
   sc.output.where = {s.file(), s.line_of("track"), s.key_path("track")};
   s.finish();
 }
@@ -364,9 +368,15 @@ void read_analysis(Section s, Scenario& sc) {
 }  // namespace
 
 Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
+  return load_scenario_text(read_text(path), path, overrides, true);
+}
+
+Scenario load_scenario_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides,
+                            bool particle_files) {
   Scenario sc;
   sc.file = path;
-  const std::string text = read_text(path);
+  sc.text = text;
+  sc.overrides = overrides;
   sc.hash = fnv1a(text);
   toml::table root;
   try {
@@ -391,7 +401,7 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
   if (auto c = top.table("contact")) read_contact(*c, sc);
   if (auto f = top.table("fluid")) read_fluid(*f, sc);
   for (Section w : top.tables("walls")) read_wall(w, sc);
-  for (Section p : top.tables("particles")) read_particles(p, sc, folder);
+  for (Section p : top.tables("particles")) read_particles(p, sc, folder, particle_files);
   if (sc.sources.empty()) top.fail("particles", "at least one [[particles]] source is required");
   if (auto o = top.table("output")) read_output(*o, sc);
   else read_output(Section(toml::table{}, "output", path), sc);

@@ -46,6 +46,8 @@ struct OutputSpec {
   double series_interval = 0;  // s
   std::vector<std::int64_t> track;  // particle ids written to track.csv
   double track_interval = 0;        // s, 0 = every step
+  std::int64_t checkpoint_every_steps = 0;  // 0: none by step count
+  double checkpoint_every_seconds = 600;    // wall-clock s, 0: none by time
   SourceLocation where;             // the [output] table, for errors found at run time
 };
 
@@ -59,6 +61,8 @@ struct AnalysisSpec {
 struct Scenario {
   std::string file, name;
   std::uint64_t hash = 0;  // FNV-1a of the scenario text and overrides
+  std::string text;                    // the scenario file as read, for checkpoints
+  std::vector<std::string> overrides;  // the --set values, in order
   double duration = 0, dt = 0;
   Integrator integrator = Integrator::velocity_verlet;
   Vec3 gravity{0, 0, -9.81};
@@ -80,5 +84,11 @@ struct Scenario {
 // Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)
 // applied before validation. Throws InputError.
 Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// The same from the text of a scenario (`path` names it in messages and anchors relative CSV
+// paths). With particle_files = false, CSV sources are not required to exist (tsubu resume
+// takes the particles from a checkpoint).
+Scenario load_scenario_text(const std::string& text, const std::string& path,
+                            const std::vector<std::string>& overrides, bool particle_files = true);
 
 }  // namespace tsubu

@@ -58,7 +58,7 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 
 }  // namespace
 
-World build_world(const Scenario& sc) {
+World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
   w.materials = sc.materials;
@@ -69,7 +69,11 @@ World build_world(const Scenario& sc) {
   w.overlap_limit = sc.overlap_limit;
   w.skin = sc.skin;
   w.laws = build_laws(sc);
+  return w;
+}
 
+World build_world(const Scenario& sc) {
+  World w = build_empty_world(sc);
   Random rng(sc.seed);
   std::vector<Grain> grains;
   std::vector<double> tolerance;

@@ -8,4 +8,8 @@ namespace tsubu {
 
 World build_world(const Scenario& scenario);
 
+// The box, materials, walls, gravity, clock settings and contact laws, without particles
+// (tsubu resume takes those from a checkpoint).
+World build_empty_world(const Scenario& scenario);
+
 }  // namespace tsubu

@@ -1,0 +1,314 @@
+#include "tsubu/app/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <type_traits>
+
+namespace tsubu {
+
+// A new particle array, contact-history field or world field must be added to the format
+// (and kCheckpointVersion raised); these catch additions that forget it.
+static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
+              "Particles changed: write the new array in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(ContactHistory) == 5 * sizeof(double),
+              "ContactHistory changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(int) == 4 && sizeof(double) == 8, "the format stores int as 32 and double as 64 bits");
+static_assert(std::endian::native == std::endian::little, "checkpoints are little-endian");
+
+namespace {
+
+constexpr char kMagic[8] = {'T', 'S', 'U', 'B', 'U', 'C', 'K', 'P'};
+constexpr std::uint32_t kByteOrderMark = 0x01020304u;
+constexpr std::size_t kHeaderSize = 32;
+
+std::uint64_t fnv1a64(const char* data, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (std::size_t k = 0; k < n; ++k) h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ULL;
+  return h;
+}
+
+class Writer {
+ public:
+  std::string bytes;
+  template <class T>
+  void pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void u64(std::uint64_t v) { pod(v); }
+  void str(const std::string& s) {
+    u64(s.size());
+    bytes += s;
+  }
+  template <class T>
+  void array(const std::vector<T>& v) {  // the count is written once, before all arrays
+    if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void contacts(const std::vector<Contact>& list) {
+    u64(list.size());
+    for (const Contact& c : list) {
+      pod(c.i);
+      pod(c.j);
+      pod(static_cast<std::uint8_t>(c.touching));
+      pod(c.history.xi);
+      pod(c.history.normal);
+    }
+  }
+};
+
+class Reader {
+ public:
+  Reader(const std::string& b, std::size_t begin) : bytes_(b), pos_(begin) {}
+  template <class T>
+  T pod() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, bytes_.data() + pos_, sizeof v);
+    pos_ += sizeof v;
+    return v;
+  }
+  std::uint64_t u64() { return pod<std::uint64_t>(); }
+  // An element count, checked against the bytes left so a corrupt count cannot allocate much.
+  std::size_t count(std::size_t bytes_each) {
+    const std::uint64_t n = u64();
+    if (bytes_each > 0 && n > (bytes_.size() - pos_) / bytes_each) throw CheckpointError("a count exceeds the file size");
+    return static_cast<std::size_t>(n);
+  }
+  std::string str() {
+    const std::size_t n = count(1);
+    std::string s = bytes_.substr(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  template <class T>
+  void array(std::vector<T>& v, std::size_t n) {
+    need(n * sizeof(T));
+    v.resize(n);
+    if (n > 0) std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));  // data() may be null
+    pos_ += n * sizeof(T);
+  }
+  void contacts(std::vector<Contact>& list) {
+    list.resize(count(2 * 4 + 1 + 5 * 8));
+    for (Contact& c : list) {
+      c.i = pod<std::uint32_t>();
+      c.j = pod<std::uint32_t>();
+      const auto touching = pod<std::uint8_t>();
+      if (touching > 1) throw CheckpointError("a contact's touching flag is neither 0 nor 1");
+      c.touching = touching == 1;
+      c.history.xi = pod<Vec3>();
+      for (double& h : c.history.normal) h = pod<double>();
+    }
+  }
+  bool at_end() const { return pos_ == bytes_.size(); }
+
+ private:
+  const std::string& bytes_;
+  std::size_t pos_;
+  void need(std::size_t n) const {
+    if (n > bytes_.size() - pos_) throw CheckpointError("the payload ends early");
+  }
+};
+
+[[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
+  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+}
+
+}  // namespace
+
+std::string encode_checkpoint(const Checkpoint& c) {
+  Writer w;
+  w.str(c.engine_version);
+  w.str(c.scenario_path);
+  w.str(c.scenario_text);
+  w.u64(c.overrides.size());
+  for (const auto& o : c.overrides) w.str(o);
+  w.u64(c.scenario_hash);
+  w.pod(c.step);
+  w.pod(c.time);
+  w.pod(c.dt);
+  w.u64(c.evaluations);
+  w.u64(c.rebuilds);
+  w.pod(c.wall_seconds);
+  w.pod(c.output.frame);
+  w.u64(c.output.pvd.size());
+  for (const auto& [t, name] : c.output.pvd) w.pod(t), w.str(name);
+  w.u64(c.output.series_bytes);
+  w.u64(c.output.track_bytes);
+  const Particles& p = c.particles;
+  w.u64(p.size());
+  w.array(p.id);
+  w.array(p.material);
+  w.array(p.radius);
+  w.array(p.mass);
+  w.array(p.translational_mass);
+  w.array(p.inertia);
+  w.array(p.position);
+  w.array(p.velocity);
+  w.array(p.omega);
+  w.array(p.force);
+  w.array(p.torque);
+  w.array(p.contact_count);
+  w.contacts(c.pair_contacts);
+  w.contacts(c.wall_contacts);
+  w.u64(c.wall_points.size());
+  w.array(c.wall_points);
+  w.array(c.wall_velocities);
+
+  std::string out(kHeaderSize, '\0');
+  char* h = out.data();
+  std::memcpy(h, kMagic, 8);
+  const std::uint32_t version = kCheckpointVersion;
+  std::memcpy(h + 8, &version, 4);
+  std::memcpy(h + 12, &kByteOrderMark, 4);
+  const std::uint64_t size = w.bytes.size(), sum = fnv1a64(w.bytes.data(), w.bytes.size());
+  std::memcpy(h + 16, &size, 8);
+  std::memcpy(h + 24, &sum, 8);
+  return out + w.bytes;
+}
+
+Checkpoint decode_checkpoint(const std::string& bytes) {
+  if (bytes.size() < kHeaderSize) throw CheckpointError("truncated: shorter than the header");
+  if (std::memcmp(bytes.data(), kMagic, 8) != 0) throw CheckpointError("not a tsubu checkpoint (bad magic)");
+  std::uint32_t version, bom;
+  std::uint64_t size, sum;
+  std::memcpy(&version, bytes.data() + 8, 4);
+  std::memcpy(&bom, bytes.data() + 12, 4);
+  std::memcpy(&size, bytes.data() + 16, 8);
+  std::memcpy(&sum, bytes.data() + 24, 8);
+  if (bom != kByteOrderMark) throw CheckpointError("written on a machine of the other byte order");
+  if (version != kCheckpointVersion)
+    throw CheckpointError("format version " + std::to_string(version) + ", this tsubu reads version " +
+                          std::to_string(kCheckpointVersion));
+  if (size != bytes.size() - kHeaderSize)
+    throw CheckpointError("truncated: the header announces " + std::to_string(size) + " payload bytes, the file has " +
+                          std::to_string(bytes.size() - kHeaderSize));
+  if (fnv1a64(bytes.data() + kHeaderSize, size) != sum) throw CheckpointError("corrupted: checksum mismatch");
+
+  Reader r(bytes, kHeaderSize);
+  Checkpoint c;
+  c.engine_version = r.str();
+  c.scenario_path = r.str();
+  c.scenario_text = r.str();
+  c.overrides.resize(r.count(8));
+  for (auto& o : c.overrides) o = r.str();
+  c.scenario_hash = r.u64();
+  c.step = r.pod<std::int64_t>();
+  c.time = r.pod<double>();
+  c.dt = r.pod<double>();
+  c.evaluations = r.u64();
+  c.rebuilds = r.u64();
+  c.wall_seconds = r.pod<double>();
+  c.output.frame = r.pod<std::int64_t>();
+  c.output.pvd.resize(r.count(16));
+  for (auto& [t, name] : c.output.pvd) t = r.pod<double>(), name = r.str();
+  c.output.series_bytes = r.u64();
+  c.output.track_bytes = r.u64();
+  Particles& p = c.particles;
+  const std::size_t n = r.count(8 * 6 + 24 * 5 + 4 * 2);
+  r.array(p.id, n);
+  r.array(p.material, n);
+  r.array(p.radius, n);
+  r.array(p.mass, n);
+  r.array(p.translational_mass, n);
+  r.array(p.inertia, n);
+  r.array(p.position, n);
+  r.array(p.velocity, n);
+  r.array(p.omega, n);
+  r.array(p.force, n);
+  r.array(p.torque, n);
+  r.array(p.contact_count, n);
+  r.contacts(c.pair_contacts);
+  r.contacts(c.wall_contacts);
+  const std::size_t n_walls = r.count(2 * 24);
+  r.array(c.wall_points, n_walls);
+  r.array(c.wall_velocities, n_walls);
+  if (!r.at_end()) throw CheckpointError("bytes left after the payload");
+  for (const Contact& k : c.pair_contacts)
+    if (k.i >= n || k.j >= n) throw CheckpointError("a contact names a particle that does not exist");
+  for (const Contact& k : c.wall_contacts)
+    if (k.i >= n) throw CheckpointError("a wall contact names a particle that does not exist");
+  return c;
+}
+
+void sync_file(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) fail_errno("cannot open", path);
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) fail_errno("cannot fsync", path);
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) fail_errno("cannot create", tmp);
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (k < 0) {
+      if (errno == EINTR) continue;
+      ::close(fd);
+      fail_errno("cannot write", tmp);
+    }
+    done += static_cast<std::size_t>(k);
+  }
+  if (::fsync(fd) != 0) {
+    ::close(fd);
+    fail_errno("cannot fsync", tmp);
+  }
+  if (::close(fd) != 0) fail_errno("cannot close", tmp);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail_errno("cannot rename to", path);
+  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& dir) {
+  std::vector<std::pair<std::int64_t, std::filesystem::path>> found;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() <= 10 || name.rfind("step_", 0) != 0 || e.path().extension() != ".tsbk") continue;
+    const std::string digits = name.substr(5, name.size() - 10);
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    found.emplace_back(std::stoll(digits), e.path());
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::filesystem::path> out;
+  for (auto& f : found) out.push_back(std::move(f.second));
+  return out;
+}
+
+std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep) {
+  std::filesystem::create_directories(dir);
+  char name[40];
+  std::snprintf(name, sizeof name, "step_%012lld.tsbk", static_cast<long long>(c.step));
+  const std::filesystem::path file = dir / name;
+  write_file_atomically(file, encode_checkpoint(c));
+  const auto all = list_checkpoints(dir);
+  for (std::size_t k = static_cast<std::size_t>(std::max(keep, 1)); k < all.size(); ++k) std::filesystem::remove(all[k]);
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+    if (e.path().extension() == ".tmp" && e.path() != file) std::filesystem::remove(e.path(), ec);
+  return file;
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw CheckpointError("cannot open the file");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return decode_checkpoint(s.str());
+}
+
+}  // namespace tsubu

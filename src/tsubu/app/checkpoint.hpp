@@ -1,0 +1,64 @@
+// Checkpoints: everything a run needs to continue bit-identically, in a versioned binary
+// file with a checksum, written atomically into OUT/checkpoint/ (docs/reliability.md).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// The output files' state at the checkpoint: a resumed run truncates series.csv and
+// track.csv to these sizes and continues the frame numbering and the .pvd index.
+struct OutputState {
+  std::int64_t frame = 0;                            // next frame number
+  std::vector<std::pair<double, std::string>> pvd;  // (time, file) of the frames so far
+  std::uint64_t series_bytes = 0, track_bytes = 0;
+};
+
+struct Checkpoint {
+  std::string engine_version;
+  std::string scenario_path, scenario_text;  // the scenario as read, and where from
+  std::vector<std::string> overrides;        // --set values, in order
+  std::uint64_t scenario_hash = 0;
+  std::int64_t step = 0;
+  double time = 0, dt = 0;
+  std::uint64_t evaluations = 0, rebuilds = 0;  // ForceField counters
+  double wall_seconds = 0;                      // run time so far, over all sessions
+  OutputState output;
+  Particles particles;  // every array, force/torque/contact_count of the last evaluation included
+  std::vector<Contact> pair_contacts, wall_contacts;  // with their histories
+  std::vector<Vec3> wall_points, wall_velocities;     // moving walls' planes, per wall
+};
+
+// A checkpoint file that cannot be used (missing, truncated, corrupted, other version).
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline constexpr std::uint32_t kCheckpointVersion = 1;
+
+// The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
+// size, FNV-1a 64 of the payload) and the payload.
+std::string encode_checkpoint(const Checkpoint& c);
+// Throws CheckpointError naming what is wrong.
+Checkpoint decode_checkpoint(const std::string& bytes);
+
+// Writes `bytes` to path.tmp, fsyncs it, renames it to `path` and fsyncs the folder.
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+// fsync of an existing file (data written through another handle).
+void sync_file(const std::filesystem::path& path);
+
+// The checkpoint files of a folder (step_<step>.tsbk), newest (highest step) first.
+std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& dir);
+// Writes step_<step>.tsbk into dir atomically, then removes all but the newest `keep`
+// checkpoints and any leftover temporary files. Returns the file written.
+std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
+Checkpoint read_checkpoint(const std::filesystem::path& file);
+
+}  // namespace tsubu

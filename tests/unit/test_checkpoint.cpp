@@ -1,0 +1,395 @@
+// Checkpoints and `tsubu resume` (docs/reliability.md): the format detects damage, and a run
+// killed at a random step (SIGKILL: no chance to clean up) or stopped by SIGTERM, then
+// resumed, ends with the same bits as the uninterrupted run: series.csv, track.csv, every
+// VTK frame, the .pvd index and the final checkpoint (particles, forces, contact histories).
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tsubu/app/checkpoint.hpp"
+
+namespace fs = std::filesystem;
+using namespace tsubu;
+
+namespace {
+
+const fs::path kScenarios = fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A folder removed at the end unless the test failed (then its path is printed).
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("tsubu_ckpt_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    if (::testing::Test::HasFailure()) std::fprintf(stderr, "kept %s\n", path_.c_str());
+    else fs::remove_all(path_);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// tsubu started with its stdout and stderr in `log`.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) dup2(fd, 1), dup2(fd, 2);
+    std::vector<char*> argv{const_cast<char*>(TSUBU_BINARY)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(TSUBU_BINARY, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int wait_for(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+// Exit code of a run to completion; its output in `log`.
+int run(const std::vector<std::string>& args, const fs::path& log) {
+  const int status = wait_for(spawn(args, log));
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Waits until the run has written a checkpoint (or ended), then a random time more, and
+// sends `sig`. Returns the wait status.
+int interrupt_after_first_checkpoint(pid_t pid, const fs::path& out, int sig, int max_delay_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (list_checkpoints(out / "checkpoint").empty() && std::chrono::steady_clock::now() < deadline) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  std::random_device rd;
+  const int delay = std::uniform_int_distribution<int>(0, max_delay_ms)(rd);
+  std::printf("sending signal %d %d ms after the first checkpoint\n", sig, delay);
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay));
+  kill(pid, sig);
+  return wait_for(pid);
+}
+
+// The newest checkpoint without what depends on when the sessions ran and rebuilt their
+// neighbour lists: the wall time, the rebuild count and the listed pairs that do not touch
+// (their history is empty; touching pairs and their histories must agree).
+std::string final_state(const fs::path& out) {
+  const auto files = list_checkpoints(out / "checkpoint");
+  if (files.empty()) return "no checkpoint";
+  Checkpoint c = read_checkpoint(files.front());
+  c.wall_seconds = 0;
+  c.rebuilds = 0;
+  std::erase_if(c.pair_contacts, [](const Contact& k) { return !k.touching; });
+  std::erase_if(c.wall_contacts, [](const Contact& k) { return !k.touching; });
+  return encode_checkpoint(c);
+}
+
+// Every output file of `ref` is in `out` with the same bytes, and the final states agree.
+void expect_same_outputs(const fs::path& ref, const fs::path& out) {
+  std::vector<fs::path> files = {"series.csv", "vtk/particles.pvd"};
+  if (fs::exists(ref / "track.csv")) files.push_back("track.csv");
+  std::size_t frames = 0;
+  for (const auto& e : fs::directory_iterator(ref / "vtk"))
+    if (e.path().extension() == ".vtu") files.push_back(fs::path("vtk") / e.path().filename()), ++frames;
+  std::size_t frames_out = 0;
+  for (const auto& e : fs::directory_iterator(out / "vtk")) frames_out += e.path().extension() == ".vtu";
+  EXPECT_EQ(frames_out, frames) << "number of VTK frames";
+  EXPECT_GT(frames, 2u);
+  for (const auto& f : files) EXPECT_TRUE(slurp(ref / f) == slurp(out / f)) << f << " differs";
+  ASSERT_FALSE(list_checkpoints(ref / "checkpoint").empty());
+  EXPECT_TRUE(final_state(ref) == final_state(out)) << "final checkpoints differ";
+  EXPECT_NE(slurp(out / "run.json").find("\"status\": \"ok\""), std::string::npos);
+}
+
+std::int64_t newest_step(const fs::path& out) { return read_checkpoint(list_checkpoints(out / "checkpoint").front()).step; }
+
+Checkpoint sample_checkpoint() {
+  Checkpoint c;
+  c.engine_version = "0.1.0";
+  c.scenario_path = "/somewhere/bed.toml";
+  c.scenario_text = "[simulation]\nduration = 1\n";
+  c.overrides = {"simulation.dt=1e-6", "output.track=[0, 1]"};
+  c.scenario_hash = 0x1234567890abcdefULL;
+  c.step = 4242;
+  c.time = 4242 * 1e-6;
+  c.dt = 1e-6;
+  c.evaluations = 99;
+  c.rebuilds = 7;
+  c.wall_seconds = 1.5;
+  c.output = {3, {{0.0, "frame_00000.vtu"}, {0.1, "frame_00001.vtu"}}, 1234, 567};
+  for (int k = 0; k < 3; ++k) {
+    c.particles.add(k, k % 2, 0.001 * (k + 1), 2500, {0.1 * k, 0.2, 0.3}, {1, 2, 3.0 + k});
+    c.particles.omega[k] = {0.5, -0.25, 1.0 / 3.0};
+    c.particles.force[k] = {1e-3, 2e-3, -9.81};
+    c.particles.torque[k] = {std::nextafter(1.0, 2.0), 0, -1e-300};
+    c.particles.contact_count[k] = k;
+  }
+  c.wall_points = {{0, 0, 0}, {0, 0, 0.026 - 1e-5 / 3}};
+  c.wall_velocities = {{}, {0, 0, -0.1}};
+  Contact a{0, 2, true, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
+  Contact b{1, 0, false, {}};
+  c.pair_contacts = {a};
+  c.wall_contacts = {b};
+  return c;
+}
+
+}  // namespace
+
+TEST(CheckpointFormat, RoundTripsEveryFieldBitForBit) {
+  const Checkpoint c = sample_checkpoint();
+  const std::string bytes = encode_checkpoint(c);
+  const Checkpoint d = decode_checkpoint(bytes);
+  EXPECT_EQ(encode_checkpoint(d), bytes);
+  EXPECT_EQ(d.overrides, c.overrides);
+  EXPECT_EQ(d.step, c.step);
+  EXPECT_EQ(d.output.pvd, c.output.pvd);
+  EXPECT_EQ(d.particles.torque[1], c.particles.torque[1]);
+  EXPECT_EQ(d.pair_contacts[0].history.normal[1], -0.5);
+  EXPECT_TRUE(d.pair_contacts[0].touching);
+  EXPECT_EQ(d.wall_points[1], c.wall_points[1]);
+  EXPECT_EQ(d.wall_velocities[1], c.wall_velocities[1]);
+}
+
+TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
+  const std::string bytes = encode_checkpoint(sample_checkpoint());
+  auto refused = [](const std::string& b, const std::string& phrase) {
+    try {
+      decode_checkpoint(b);
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted a damaged checkpoint; expected: " << phrase;
+  };
+  refused(bytes.substr(0, 20), "truncated");
+  refused(bytes.substr(0, bytes.size() - 1), "truncated");
+  refused(bytes + "x", "payload bytes");
+  for (std::size_t at : {std::size_t{40}, bytes.size() / 2, bytes.size() - 1}) {
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x10);
+    refused(flipped, "checksum");
+  }
+  std::string other = bytes;
+  other[8] = 2;
+  refused(other, "format version 2");
+  refused("XSUBUCKP" + bytes.substr(8), "magic");
+}
+
+TEST(CheckpointFiles, TheLastTwoAreKeptNewestFirst) {
+  TempDir dir;
+  Checkpoint c = sample_checkpoint();
+  for (std::int64_t step : {10, 30, 20, 40}) {
+    c.step = step;
+    write_checkpoint(dir.path(), c);
+  }
+  std::ofstream(dir.path() / "step_000000000050.tsbk.tmp") << "a write cut short";
+  const auto files = list_checkpoints(dir.path());
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(files[0].filename(), "step_000000000040.tsbk");
+  EXPECT_EQ(files[1].filename(), "step_000000000030.tsbk");
+  EXPECT_EQ(read_checkpoint(files[0]).step, 40);
+}
+
+// Velocity Verlet, Hertz + Mindlin: SIGKILL at a random step, resume; then the same from
+// copies whose newest checkpoint is corrupted or truncated (the previous one is used).
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_VelocityVerlet) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  const std::vector<std::string> sets = {"--set", "simulation.duration=0.12",        "--set",
+                                         "output.checkpoint_every_steps=1000", "--set", "output.track=[0, 5, 300]",
+                                         "--set", "output.vtk_interval=0.01"};
+  auto args = [&](const fs::path& out) {
+    std::vector<std::string> a = {"run", (kScenarios / "valid_small.toml").string(), "--out", out.string()};
+    a.insert(a.end(), sets.begin(), sets.end());
+    return a;
+  };
+  ASSERT_EQ(run(args(ref), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+
+  const int status = interrupt_after_first_checkpoint(spawn(args(cut), dir.path() / "cut.log"), cut, SIGKILL, 300);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir.path() / "cut.log");
+  ASSERT_GE(list_checkpoints(cut / "checkpoint").size(), 1u);
+  const std::int64_t killed_after = newest_step(cut);
+  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(killed_after));
+
+  // Damaged copies, made before the intact folder is resumed.
+  const fs::path corrupt = dir.path() / "corrupt", truncated = dir.path() / "truncated";
+  const bool two = list_checkpoints(cut / "checkpoint").size() == 2;
+  if (two) {
+    fs::copy(cut, corrupt, fs::copy_options::recursive);
+    fs::copy(cut, truncated, fs::copy_options::recursive);
+  }
+
+  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  EXPECT_NE(slurp(dir.path() / "resume.log").find("step " + std::to_string(killed_after)), std::string::npos)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut);
+
+  if (!two) GTEST_SKIP() << "killed before the second checkpoint: the damaged-checkpoint cases need two";
+  const fs::path bad1 = list_checkpoints(corrupt / "checkpoint").front();
+  {
+    std::fstream f(bad1, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(fs::file_size(bad1) / 2));
+    f.put('\x5a');
+  }
+  ASSERT_EQ(run({"resume", corrupt.string()}, dir.path() / "corrupt.log"), 0) << slurp(dir.path() / "corrupt.log");
+  const std::string corrupt_log = slurp(dir.path() / "corrupt.log");
+  EXPECT_NE(corrupt_log.find("checksum"), std::string::npos) << corrupt_log;
+  EXPECT_NE(corrupt_log.find("trying the previous one"), std::string::npos) << corrupt_log;
+  expect_same_outputs(ref, corrupt);
+
+  const fs::path bad2 = list_checkpoints(truncated / "checkpoint").front();
+  fs::resize_file(bad2, fs::file_size(bad2) - 100);
+  ASSERT_EQ(run({"resume", truncated.string()}, dir.path() / "truncated.log"), 0) << slurp(dir.path() / "truncated.log");
+  EXPECT_NE(slurp(dir.path() / "truncated.log").find("truncated"), std::string::npos) << slurp(dir.path() / "truncated.log");
+  expect_same_outputs(ref, truncated);
+}
+
+// Symplectic Euler with model P (position correction on the contact step) and Coulomb
+// springs: the stored forces are used as they are, never recomputed, at the resume.
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_SymplecticEulerModelP) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  const std::string scenario = (kScenarios / "checkpoint_model_p.toml").string();
+  ASSERT_EQ(run({"run", scenario, "--out", ref.string()}, dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  const int status = interrupt_after_first_checkpoint(spawn({"run", scenario, "--out", cut.string()}, dir.path() / "cut.log"),
+                                                      cut, SIGKILL, 600);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir.path() / "cut.log");
+  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(newest_step(cut)));
+  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut);
+}
+
+// A moving wall (the piston of the Hooke/Hysteresis demonstration, loading the bed): its
+// plane and velocity are part of the state, and the wall columns of series.csv continue.
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_MovingWall) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  const fs::path scenario = fs::path(TSUBU_SOURCE_DIR) / "examples" / "piston-hysteresis.toml";
+  const std::vector<std::string> sets = {"--set", "simulation.duration=0.14", "--set", "output.checkpoint_every_steps=2000",
+                                         "--set", "output.vtk_interval=0.02"};
+  auto args = [&](const fs::path& out) {
+    std::vector<std::string> a = {"run", scenario.string(), "--out", out.string()};
+    a.insert(a.end(), sets.begin(), sets.end());
+    return a;
+  };
+  ASSERT_EQ(run(args(ref), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  const int status = interrupt_after_first_checkpoint(spawn(args(cut), dir.path() / "cut.log"), cut, SIGKILL, 600);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir.path() / "cut.log");
+  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(newest_step(cut)));
+  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut);
+}
+
+// SIGTERM (as SIGINT): a checkpoint of the step reached, run.json "interrupted", exit code 4;
+// the resumed run ends as the uninterrupted one. Checkpoints here come from the signal and
+// the end of the run only (every_steps beyond the run, none by wall time).
+TEST(Resume, SigtermWritesAFinalCheckpointAndExitsWith4) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  auto args = [&](const fs::path& out, const std::string& every) {
+    return std::vector<std::string>{"run", (kScenarios / "checkpoint_model_p.toml").string(), "--out", out.string(),
+                                    "--set", "output.checkpoint_every_steps=" + every,
+                                    "--set", "output.checkpoint_every_seconds=0"};
+  };
+  ASSERT_EQ(run(args(ref, "1000000"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  const pid_t pid = spawn(args(cut, "1000000"), dir.path() / "cut.log");
+  // No checkpoint to wait for: wait for the first rows of series.csv instead.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while ((!fs::exists(cut / "series.csv") || fs::file_size(cut / "series.csv") < 2000) &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(std::random_device{}() % 300));
+  kill(pid, SIGTERM);
+  const int status = wait_for(pid);
+  const std::string log = slurp(dir.path() / "cut.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  ASSERT_EQ(WEXITSTATUS(status), 4) << log;
+  EXPECT_NE(log.find("stopped by SIGTERM"), std::string::npos) << log;
+  EXPECT_NE(slurp(cut / "run.json").find("\"status\": \"interrupted\""), std::string::npos);
+  ASSERT_EQ(list_checkpoints(cut / "checkpoint").size(), 1u);
+  const std::int64_t step = newest_step(cut);
+  EXPECT_NE(log.find("after step " + std::to_string(step)), std::string::npos) << log;
+  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut);
+}
+
+// A numerical failure writes no checkpoint of the failing state: the last good one is kept
+// and named in the diagnostic; resuming from it fails again at the same step (determinism).
+TEST(Resume, NumericalFailureKeepsTheLastGoodCheckpoint) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const std::vector<std::string> args = {"run", (kScenarios / "valid_small.toml").string(), "--out", out.string(),
+                                         "--set", "simulation.dt=5e-5", "--set", "output.checkpoint_every_steps=20"};
+  ASSERT_EQ(run(args, dir.path() / "run.log"), 3) << slurp(dir.path() / "run.log");
+  const std::string log = slurp(dir.path() / "run.log");
+  const auto files = list_checkpoints(out / "checkpoint");
+  ASSERT_EQ(files.size(), 2u);
+  const Checkpoint last = read_checkpoint(files[0]);
+  EXPECT_NE(log.find("the last good checkpoint (step " + std::to_string(last.step) + ") is kept"), std::string::npos) << log;
+  const auto at = log.find("step ");
+  ASSERT_NE(at, std::string::npos);
+  const long failed_at = std::stol(log.substr(at + 5));
+  EXPECT_GT(failed_at, last.step);
+  EXPECT_LE(failed_at, last.step + 20);
+  EXPECT_NE(slurp(out / "run.json").find("last good checkpoint"), std::string::npos);
+
+  ASSERT_EQ(run({"resume", out.string()}, dir.path() / "resume.log"), 3) << slurp(dir.path() / "resume.log");
+  EXPECT_NE(slurp(dir.path() / "resume.log").find("step " + std::to_string(failed_at) + ","), std::string::npos)
+      << slurp(dir.path() / "resume.log");
+  EXPECT_EQ(list_checkpoints(out / "checkpoint").front(), files[0]) << "the failing state must not be checkpointed";
+}
+
+// Without frames (vtk_interval = 0) or tracked particles there is no .pvd or track.csv:
+// checkpoints must still be written, and a finished run resumes to the same result.
+TEST(Resume, WithoutFramesOrTrackAndOfAFinishedRun) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(run({"run", (kScenarios / "valid_small.toml").string(), "--out", out.string(), "--set",
+                 "simulation.duration=0.005", "--set", "output.vtk_interval=0", "--set", "output.checkpoint_every_steps=300"},
+                dir.path() / "run.log"),
+            0)
+      << slurp(dir.path() / "run.log");
+  EXPECT_EQ(slurp(dir.path() / "run.log").find("warning"), std::string::npos) << slurp(dir.path() / "run.log");
+  const auto files = list_checkpoints(out / "checkpoint");
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(read_checkpoint(files[0]).step, 1000);
+  EXPECT_EQ(read_checkpoint(files[1]).step, 900);
+  const std::string series = slurp(out / "series.csv");
+  ASSERT_EQ(run({"resume", out.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_NE(slurp(out / "run.json").find("\"status\": \"ok\""), std::string::npos);
+}
+
+TEST(Resume, AFolderWithoutCheckpointsIsAnError) {
+  TempDir dir;
+  ASSERT_EQ(run({"resume", dir.path().string()}, dir.path() / "log"), 1);
+  EXPECT_NE(slurp(dir.path() / "log").find("no checkpoint"), std::string::npos) << slurp(dir.path() / "log");
+}
