@@ -7,6 +7,7 @@
 
 #include "tsubu/contact/law.hpp"
 #include "tsubu/integrate/integrators.hpp"
+#include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
 
@@ -73,6 +74,7 @@ struct Scenario {
   std::vector<ParticleSource> sources;
   OutputSpec output;
   std::vector<AnalysisSpec> analyses;
+  SearchSpec search;  // [search]: contact search method
 };
 
 // Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)

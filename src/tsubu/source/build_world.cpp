@@ -67,6 +67,7 @@ World build_world(const Scenario& sc) {
   w.dt = sc.dt;
   w.overlap_limit = sc.overlap_limit;
   w.skin = sc.skin;
+  w.search = sc.search;
   w.laws = build_laws(sc);
 
   Random rng(sc.seed);

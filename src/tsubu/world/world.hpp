@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "tsubu/contact/law.hpp"
+#include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
@@ -33,6 +34,7 @@ struct World {
   double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
   std::vector<Contact> pair_contacts;
   std::vector<Contact> wall_contacts;
+  SearchSpec search;  // contact search method of the neighbour-list builds
 };
 
 }  // namespace tsubu
