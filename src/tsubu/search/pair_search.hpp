@@ -66,13 +66,17 @@ class MultiLevelGrid {
   // The level of diameter d: K with l_{K+1} < d <= l_K, clamped to 1..levels.
   static int level_for(double d, double l1, int levels);
 
-  // Estimated cost of one find_pairs with M levels, in cells visited + candidate pairs
-  // tested (+ cells cleared by the binning), from the particles' diameters and the volume
+  // Estimated cost of one find_pairs with M levels: cells visited and candidate pairs
+  // tested (and cells cleared by the binning), from the particles' diameters and the volume
   // they fill. Entry M-1 is for M levels, M = 1..the finest level that holds a particle.
+  // total() weighs a cell visit as kCellCost candidate tests: fitted to the forced-level
+  // timings of bench/bench_search.cpp (bench/results/search_scaling.md: ~8.8 ns per cell,
+  // ~1.9 ns per candidate on the reference machine).
+  static constexpr double kCellCost = 4;
   struct Estimate {
     int levels = 0;
     double cells = 0, candidates = 0, binning = 0;
-    double total() const { return cells + candidates + binning; }
+    double total() const { return kCellCost * cells + candidates + binning; }
   };
   std::vector<Estimate> estimate(const Particles& p, const Domain& domain, double margin) const;
 
