@@ -5,7 +5,7 @@ Runs tsubu_bench's Search benchmarks (one thread, 5 repetitions, the fastest CPU
 the machine is shared, and the minimum is the least disturbed) and writes
 bench/results/search_scaling.{csv,png,md}. Needs Debian's /usr/bin/python3 (numpy, matplotlib).
 
-  /usr/bin/python3 bench/search_scaling.py [path/to/tsubu_bench]
+  /usr/bin/python3 bench/search_scaling.py [path/to/tsubu_bench | saved search_scaling.json]
 """
 import csv
 import json
@@ -51,7 +51,14 @@ def rows(report):
 
 def main():
     binary = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bench", "tsubu_bench")
-    report = run(binary)
+    if binary.endswith(".json"):  # re-plot a saved run
+        with open(binary) as f:
+            report = json.load(f)
+    else:
+        report = run(binary)
+        os.makedirs(OUT, exist_ok=True)
+        with open(os.path.join(OUT, "search_scaling.json"), "w") as f:
+            json.dump(report, f, indent=1)
     data = rows(report)
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "search_scaling.csv"), "w", newline="") as f:
@@ -81,11 +88,11 @@ def main():
     fitted = {(r["ratio"], r["levels"]): a + b * r["est_cells"] + c * r["est_candidates"] for r in forced}
     ratios = sorted({r["ratio"] for r in forced})
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for c, ratio in zip(colors, ratios):
+    for color, ratio in zip(colors, ratios):
         pts = sorted((r["levels"], r["ms"]) for r in forced if r["ratio"] == ratio)
         m = [p[0] for p in pts]
-        ax2.plot(m, [p[1] for p in pts], "o-", color=c, label=f"ratio {ratio}: measured")
-        ax2.plot(m, [fitted[(ratio, k)] for k in m], "x--", color=c, label=f"ratio {ratio}: estimate terms, fitted")
+        ax2.plot(m, [p[1] for p in pts], "o-", color=color, label=f"ratio {ratio}: measured")
+        ax2.plot(m, [fitted[(ratio, k)] for k in m], "x--", color=color, label=f"ratio {ratio}: estimate terms, fitted")
     ax2.set_xlabel("number of levels M_S (forced)")
     ax2.set_ylabel("find_pairs time (ms)")
     ax2.set_title(f"fit: {a:.1f} ms + {b * 1e6:.1f} ns/cell + {c * 1e6:.1f} ns/candidate", fontsize=10)
