@@ -86,6 +86,7 @@ void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = world.skin;
   if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  grid_.configure(world.search);
   grid_.find_pairs(p, world.domain, skin_, candidates_);
   carry_history(candidates_, world.pair_contacts, next_);
   world.pair_contacts.swap(next_);

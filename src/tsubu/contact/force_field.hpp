@@ -50,7 +50,7 @@ class ForceField {
       force_i[k] = f, torque_i[k] = ti, torque_j[k] = tj, energy[k] = e, overlap_ratio[k] = ratio;
     }
   };
-  CellGrid grid_;
+  PairSearch grid_;
   std::vector<Pair> candidates_;
   std::vector<Contact> next_;
   Results pair_results_, wall_results_;

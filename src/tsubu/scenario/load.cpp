@@ -365,6 +365,20 @@ void read_analysis(Section s, Scenario& sc) {
   sc.analyses.push_back(a);
 }
 
+void read_search(Section s, Scenario& sc) {
+  const bool multilevel = s.choice("method", {"cell", "multilevel"}, "cell") == "multilevel";
+  sc.search.method = multilevel ? SearchSpec::Method::multilevel : SearchSpec::Method::cell;
+  if (s.has("levels")) {
+    if (!multilevel) s.fail("levels", "is a key of method = \"multilevel\" only");
+    const std::int64_t levels = s.integer("levels", 0);
+    if (levels < 1 || levels > MultiLevelGrid::kMaxLevels)
+      s.fail("levels", "allowed 1 to " + std::to_string(MultiLevelGrid::kMaxLevels) + " (omit it for the automatic choice), got " +
+                           std::to_string(levels));
+    sc.search.levels = static_cast<int>(levels);
+  }
+  s.finish();
+}
+
 }  // namespace
 
 Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
@@ -406,6 +420,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   if (auto o = top.table("output")) read_output(*o, sc);
   else read_output(Section(toml::table{}, "output", path), sc);
   for (Section a : top.tables("analyses")) read_analysis(a, sc);
+  if (auto s = top.table("search")) read_search(*s, sc);
   top.finish();
   return sc;
 }

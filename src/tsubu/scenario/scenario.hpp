@@ -8,6 +8,7 @@
 #include "tsubu/contact/law.hpp"
 #include "tsubu/fluid/fluid.hpp"
 #include "tsubu/integrate/integrators.hpp"
+#include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
 
@@ -79,6 +80,7 @@ struct Scenario {
   std::vector<ParticleSource> sources;
   OutputSpec output;
   std::vector<AnalysisSpec> analyses;
+  SearchSpec search;  // [search]: contact search method
 };
 
 // Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)

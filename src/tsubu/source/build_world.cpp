@@ -68,6 +68,7 @@ World build_empty_world(const Scenario& sc) {
   w.dt = sc.dt;
   w.overlap_limit = sc.overlap_limit;
   w.skin = sc.skin;
+  w.search = sc.search;
   w.laws = build_laws(sc);
   return w;
 }

@@ -5,6 +5,7 @@
 
 #include "tsubu/contact/law.hpp"
 #include "tsubu/fluid/fluid.hpp"
+#include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
@@ -35,6 +36,7 @@ struct World {
   double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
   std::vector<Contact> pair_contacts;
   std::vector<Contact> wall_contacts;
+  SearchSpec search;  // contact search method of the neighbour-list builds
 };
 
 }  // namespace tsubu
