@@ -7,6 +7,7 @@
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/size_distribution.hpp"
+#include "tsubu/source/sources.hpp"
 
 namespace tsubu {
 namespace {
@@ -97,6 +98,22 @@ TEST(Measures, SphereSlabVolume) {
   EXPECT_NEAR(sphere_slab_volume(0, r, 0, 5), full / 2, 1e-14);
   EXPECT_NEAR(sphere_slab_volume(0, r, 0.5, 1), M_PI * 0.5 * 0.5 * (3 - 0.5) / 3, 1e-14);  // cap of height h: pi h^2 (3r - h)/3
   EXPECT_EQ(sphere_slab_volume(0, r, 1.5, 2), 0.0);
+}
+
+TEST(CsvSource, HeaderMayFollowCommentsAndVelocitiesAreOptional) {
+  const std::string path = ::testing::TempDir() + "tsubu_csv_header.csv";
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs("# settled bed\n\nx,y,z,d,vx,vy,vz\n0.1,0.2,0.3,0.002,1,2,3\n0.5,0.5,0.5,0.004\r\n", f);
+  std::fclose(f);
+  ParticleSource src;
+  src.file = path;
+  const std::vector<Grain> g = read_csv_grains(src);
+  ASSERT_EQ(g.size(), 2u);
+  EXPECT_EQ(g[0].position, (Vec3{0.1, 0.2, 0.3}));
+  EXPECT_EQ(g[0].velocity, (Vec3{1, 2, 3}));
+  EXPECT_EQ(g[0].where.line, 4);
+  EXPECT_EQ(g[1].diameter, 0.004);
+  EXPECT_EQ(g[1].velocity, (Vec3{}));
 }
 
 }  // namespace

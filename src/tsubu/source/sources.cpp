@@ -24,7 +24,7 @@ std::vector<Grain> read_csv_grains(const ParticleSource& src) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
-    if (number == 1 && line.rfind("x,", 0) == 0) continue;  // header
+    if (out.empty() && line.rfind("x,", 0) == 0) continue;  // header, before the first row
     std::vector<double> v;
     std::size_t start = 0;
     for (;;) {
