@@ -6,30 +6,38 @@
 
 namespace tsubu {
 
-void CellGrid::bin(const Particles& p, const Domain& domain, double cell_size) {
-  const std::size_t n = p.size();
-  double extent[3];
+void grid_span(const Particles& p, const Domain& domain, double origin[3], double extent[3]) {
   for (int k = 0; k < 3; ++k) {
     if (domain.periodic[k]) {
-      origin_[k] = domain.lower[k];
+      origin[k] = domain.lower[k];
       extent[k] = domain.length(k);
     } else {
       double lo = p.position[0][k], hi = lo;
-      for (std::size_t i = 1; i < n; ++i) lo = std::min(lo, p.position[i][k]), hi = std::max(hi, p.position[i][k]);
-      origin_[k] = lo;
+      for (std::size_t i = 1; i < p.size(); ++i) lo = std::min(lo, p.position[i][k]), hi = std::max(hi, p.position[i][k]);
+      origin[k] = lo;
       extent[k] = hi - lo;
     }
   }
-  const double max_cells = 4.0 * static_cast<double>(n) + 27.0;
-  for (;; cell_size *= 1.25) {
+}
+
+void grid_cells(const double extent[3], double size, std::size_t items, int cells[3], double length[3]) {
+  const double max_cells = 4.0 * static_cast<double>(items) + 27.0;
+  for (;; size *= 1.25) {
     double total = 1;
-    for (int k = 0; k < 3; ++k) total *= std::max(1.0, std::floor(extent[k] / cell_size));
+    for (int k = 0; k < 3; ++k) total *= std::max(1.0, std::floor(extent[k] / size));
     if (total <= max_cells) break;
   }
   for (int k = 0; k < 3; ++k) {
-    cells_[k] = std::max(1, static_cast<int>(std::floor(extent[k] / cell_size)));
-    cell_length_[k] = extent[k] > 0 ? extent[k] / cells_[k] : cell_size;
+    cells[k] = std::max(1, static_cast<int>(std::floor(extent[k] / size)));
+    length[k] = extent[k] > 0 ? extent[k] / cells[k] : size;
   }
+}
+
+void CellGrid::bin(const Particles& p, const Domain& domain, double cell_size) {
+  const std::size_t n = p.size();
+  double extent[3];
+  grid_span(p, domain, origin_, extent);
+  grid_cells(extent, cell_size, n, cells_, cell_length_);
   const std::size_t n_cells = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
   cell_of_.resize(n);
   cell_start_.assign(n_cells + 1, 0);

@@ -51,32 +51,10 @@ int MultiLevelGrid::level_for(double d, double l1, int levels) {
   return k;
 }
 
-void MultiLevelGrid::span(const Particles& p, const Domain& domain) {
-  const std::size_t n = p.size();
-  for (int k = 0; k < 3; ++k) {
-    if (domain.periodic[k]) {
-      origin_[k] = domain.lower[k];
-      extent_[k] = domain.length(k);
-    } else {
-      double lo = p.position[0][k], hi = lo;
-      for (std::size_t i = 1; i < n; ++i) lo = std::min(lo, p.position[i][k]), hi = std::max(hi, p.position[i][k]);
-      origin_[k] = lo;
-      extent_[k] = hi - lo;
-    }
-  }
-}
+void MultiLevelGrid::span(const Particles& p, const Domain& domain) { grid_span(p, domain, origin_, extent_); }
 
 void MultiLevelGrid::cell_dims(double size, std::size_t count, int* cells, double* length) const {
-  const double max_cells = 4.0 * static_cast<double>(count) + 27.0;
-  for (;; size *= 1.25) {
-    double total = 1;
-    for (int k = 0; k < 3; ++k) total *= std::max(1.0, std::floor(extent_[k] / size));
-    if (total <= max_cells) break;
-  }
-  for (int k = 0; k < 3; ++k) {
-    cells[k] = std::max(1, static_cast<int>(std::floor(extent_[k] / size)));
-    length[k] = extent_[k] > 0 ? extent_[k] / cells[k] : size;
-  }
+  grid_cells(extent_, size, count, cells, length);
 }
 
 std::vector<MultiLevelGrid::Estimate> MultiLevelGrid::estimate(const Particles& p, const Domain& domain,

@@ -15,6 +15,14 @@ struct Pair {
   std::uint32_t i, j;
 };
 
+// Where a grid lies along each axis: the box along periodic axes, the particles' extent
+// along the others (a few grains in a large box cost nothing).
+void grid_span(const Particles& p, const Domain& domain, double origin[3], double extent[3]);
+
+// Cells per axis no smaller than `size`, enlarged until there are at most about four per
+// item, and their lengths.
+void grid_cells(const double extent[3], double size, std::size_t items, int cells[3], double length[3]);
+
 // Linked-cell grid: cells no smaller than the largest diameter (+ margin), particles
 // binned by a counting sort each call, 27-cell stencil with periodic wrap. Along periodic
 // axes the grid spans the box; along the others, only the particles' extent. Cells are
