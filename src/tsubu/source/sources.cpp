@@ -17,6 +17,10 @@ const char* const kColumns[] = {"x", "y", "z", "d", "vx", "vy", "vz"};  // the k
 std::vector<Grain> read_csv_grains(const ParticleSource& src) {
   std::ifstream in(src.file);
   if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
+  return parse_csv_grains(in, src.file);
+}
+
+std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
   std::vector<Grain> out;
   std::string line;
   long number = 0;
@@ -35,20 +39,20 @@ std::vector<Grain> read_csv_grains(const ParticleSource& src) {
       double x = 0;
       const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(x))
-        throw InputError(src.file, number, v.size() < 7 ? kColumns[v.size()] : "",
+        throw InputError(name, number, v.size() < 7 ? kColumns[v.size()] : "",
                          "\"" + std::string(field) + "\" is not a finite number; rows are x,y,z,d[,vx,vy,vz] in SI units");
       v.push_back(x);
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
     if (v.size() != 4 && v.size() != 7)
-      throw InputError(src.file, number, "", "expected 4 or 7 numbers (x,y,z,d[,vx,vy,vz]), got " + std::to_string(v.size()));
-    if (!(v[3] > 0)) throw InputError(src.file, number, "d", "the diameter must be > 0 (metres)");
-    Grain g{{v[0], v[1], v[2]}, {}, v[3], {src.file, number, ""}};
+      throw InputError(name, number, "", "expected 4 or 7 numbers (x,y,z,d[,vx,vy,vz]), got " + std::to_string(v.size()));
+    if (!(v[3] > 0)) throw InputError(name, number, "d", "the diameter must be > 0 (metres)");
+    Grain g{{v[0], v[1], v[2]}, {}, v[3], {name, number, ""}};
     if (v.size() == 7) g.velocity = {v[4], v[5], v[6]};
     out.push_back(g);
   }
-  if (out.empty()) throw InputError(src.file, number, "", "no particles in the file");
+  if (out.empty()) throw InputError(name, number, "", "no particles in the file");
   return out;
 }
 

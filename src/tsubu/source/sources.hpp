@@ -1,6 +1,7 @@
 // Particle sources: each appends grains (diameter, position, velocity) with the location they
 // came from, so that later checks can name the CSV line or the scenario table.
 #pragma once
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@ struct Grain {
 
 // CSV `x,y,z,d[,vx,vy,vz]`, SI units, optional header line. Errors name file:line.
 std::vector<Grain> read_csv_grains(const ParticleSource& src);
+// The same from a stream; `name` is the file name the errors give.
+std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name);
 
 // Simple cubic lattice filling [lower, upper] with `spacing` between centres.
 std::vector<Grain> lattice_grains(const ParticleSource& src);
