@@ -160,6 +160,9 @@ std::string encode_checkpoint(const Checkpoint& c) {
   w.u64(c.wall_points.size());
   w.array(c.wall_points);
   w.array(c.wall_velocities);
+  w.pod(static_cast<std::uint8_t>(c.energy_watch.started));
+  w.pod(c.energy_watch.reference);
+  w.pod(c.energy_watch.active_max);
 
   std::string out(kHeaderSize, '\0');
   char* h = out.data();
@@ -229,6 +232,9 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   const std::size_t n_walls = r.count(2 * 24);
   r.array(c.wall_points, n_walls);
   r.array(c.wall_velocities, n_walls);
+  const auto started = r.pod<std::uint8_t>();
+  if (started > 1) throw CheckpointError("corrupted: energy-watch flag is neither 0 nor 1");
+  c.energy_watch = {started == 1, r.pod<double>(), r.pod<double>()};
   if (!r.at_end()) throw CheckpointError("bytes left after the payload");
   for (const Contact& k : c.pair_contacts)
     if (k.i >= n || k.j >= n) throw CheckpointError("a contact names a particle that does not exist");

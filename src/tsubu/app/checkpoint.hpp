@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -33,6 +34,7 @@ struct Checkpoint {
   Particles particles;  // every array, force/torque/contact_count of the last evaluation included
   std::vector<Contact> pair_contacts, wall_contacts;  // with their histories
   std::vector<Vec3> wall_points, wall_velocities;     // moving walls' planes, per wall
+  EnergyWatch::State energy_watch;                    // the energy-growth check's reference
 };
 
 // A checkpoint file that cannot be used (missing, truncated, corrupted, other version).

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
@@ -159,9 +160,12 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
   };
   std::int64_t frame = from ? from->output.frame : 0;
   std::vector<fs::path> unsynced_frames;  // frames written since the last checkpoint
+  EnergyWatch energy_watch(world, sc.energy_growth_limit);
+  if (from) energy_watch.restore(from->energy_watch);
   auto write_series = [&] {
     const Energies e = energies(world);
     const ContactTotals c = forces.totals(world);
+    energy_watch.observe(world, c.elastic_energy);  // before the row: a failing state is not written
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
            << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
     for (std::size_t k : moving)
@@ -209,6 +213,7 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     c.dt = world.dt;
     c.evaluations = forces.evaluations();
     c.rebuilds = forces.rebuilds();
+    c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frame;
     c.output.pvd = pvd.frames();

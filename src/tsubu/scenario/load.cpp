@@ -98,6 +98,10 @@ void read_simulation(Section s, Scenario& sc) {
   sc.overlap_limit = s.positive("overlap_limit", 0.1);
   if (sc.overlap_limit >= 1) s.fail("overlap_limit", "is a fraction of the smaller diameter: allowed (0, 1)" + got(sc.overlap_limit));
   sc.skin = s.has("skin") ? s.positive("skin") : 0.0;
+  sc.energy_growth_limit = s.real("energy_growth_limit", 0.5);
+  if (sc.energy_growth_limit < 0)
+    s.fail("energy_growth_limit", "must be >= 0 (a fraction of the largest kinetic + elastic energy; 0 turns the check off)" +
+                                      got(sc.energy_growth_limit));
   s.finish();
 }
 

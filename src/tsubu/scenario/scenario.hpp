@@ -70,6 +70,7 @@ struct Scenario {
   Fluid fluid;  // [fluid]; absent: no fluid
   std::uint64_t seed = 1;
   double overlap_limit = 0.1;
+  double energy_growth_limit = 0.5;  // see EnergyWatch; 0: off
   double skin = 0;  // m, neighbour-list margin; 0: a tenth of the smallest diameter
   Domain domain;
   SourceLocation domain_where;  // the [domain] table, for checks made once the particles exist

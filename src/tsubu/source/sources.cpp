@@ -4,7 +4,11 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <unordered_map>
+
+#include <unistd.h>
 
 #include "tsubu/core/error.hpp"
 
@@ -12,6 +16,28 @@ namespace tsubu {
 
 namespace {
 const char* const kColumns[] = {"x", "y", "z", "d", "vx", "vy", "vz"};  // the key named by a bad field
+}  // namespace
+
+std::size_t particle_limit() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return std::size_t(1) << 32;
+  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) / kBytesPerParticle;
+}
+
+namespace {
+
+std::string too_many(double count) {
+  const std::size_t limit = particle_limit();
+  std::ostringstream s;
+  s << std::setprecision(3) << "would create ";
+  if (count > 0) s << count;
+  else s << "more than " << limit;
+  s << " particles; this machine holds at most " << limit << " (about " << kBytesPerParticle / 1024
+    << " KiB each with their contacts, " << static_cast<double>(limit) * kBytesPerParticle / (1024.0 * 1024 * 1024)
+    << " GiB of memory)";
+  return s.str();
+}
+
 }  // namespace
 
 std::vector<Grain> read_csv_grains(const ParticleSource& src) {
@@ -51,6 +77,7 @@ std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
     Grain g{{v[0], v[1], v[2]}, {}, v[3], {name, number, ""}};
     if (v.size() == 7) g.velocity = {v[4], v[5], v[6]};
     out.push_back(g);
+    if (out.size() > particle_limit()) throw InputError(name, number, "", too_many(0));
   }
   if (out.empty()) throw InputError(name, number, "", "no particles in the file");
   return out;
@@ -59,12 +86,16 @@ std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
 std::vector<Grain> lattice_grains(const ParticleSource& src) {
   std::vector<Grain> out;
   const double r = 0.5 * src.diameter;
-  int count[3];
-  for (int k = 0; k < 3; ++k)
-    count[k] = static_cast<int>(std::floor((src.upper[k] - src.lower[k] - src.diameter) / src.spacing + 1e-9)) + 1;
-  for (int c = 0; c < 3; ++c)
-    if (count[c] < 1)
+  double per_axis[3], total = 1;
+  for (int k = 0; k < 3; ++k) {
+    per_axis[k] = std::floor((src.upper[k] - src.lower[k] - src.diameter) / src.spacing + 1e-9) + 1;
+    if (per_axis[k] < 1)
       throw InputError(src.where.file, src.where.line, src.where.key, "the region is smaller than one diameter");
+    total *= per_axis[k];
+  }
+  if (total > static_cast<double>(particle_limit()))
+    throw InputError(src.where.file, src.where.line, src.where.key + ".spacing", too_many(total));
+  const int count[3] = {static_cast<int>(per_axis[0]), static_cast<int>(per_axis[1]), static_cast<int>(per_axis[2])};
   for (int k = 0; k < count[2]; ++k)
     for (int j = 0; j < count[1]; ++j)
       for (int i = 0; i < count[0]; ++i)
@@ -77,10 +108,14 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
   Vec3 size = src.upper - src.lower;
   const double target = src.solid_fraction * size.x * size.y * size.z;
   std::vector<double> diameters;
+  const std::size_t limit = particle_limit();
   for (double volume = 0; volume < target;) {
     const double d = src.sizes.sample(rng);
     diameters.push_back(d);
     volume += M_PI / 6 * d * d * d;
+    if (diameters.size() > limit)
+      throw InputError(src.where.file, src.where.line, src.where.key + ".solid_fraction",
+                       too_many(target / (volume / static_cast<double>(diameters.size()))));
   }
   std::sort(diameters.rbegin(), diameters.rend());
   const double cell = diameters.front();

@@ -16,6 +16,11 @@ struct Grain {
   SourceLocation where;
 };
 
+// The most particles a run may hold on this machine: its physical memory over a generous
+// estimate of what one particle costs with its contacts. Sources refuse to create more.
+std::size_t particle_limit();
+inline constexpr std::size_t kBytesPerParticle = 2048;
+
 // CSV `x,y,z,d[,vx,vy,vz]`, SI units, optional header line. Errors name file:line.
 std::vector<Grain> read_csv_grains(const ParticleSource& src);
 // The same from a stream; `name` is the file name the errors give.

@@ -1,0 +1,39 @@
+#include "tsubu/analysis/energy_watch.hpp"
+
+#include <sstream>
+
+#include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/error.hpp"
+
+namespace tsubu {
+
+EnergyWatch::EnergyWatch(const World& world, double limit) : limit_(limit) {
+  on_ = limit > 0 && !world.fluid.enabled;
+  for (const Wall& w : world.walls)
+    if (!w.motion.empty()) on_ = false;
+  for (int k = 0; k < 3; ++k)
+    if (world.domain.periodic[k] && world.gravity[k] != 0) on_ = false;
+}
+
+void EnergyWatch::observe(const World& world, double elastic_energy) {
+  if (!on_) return;
+  const Energies e = energies(world);
+  const double active = e.kinetic_translational + e.kinetic_rotational + elastic_energy;
+  const double total = active + e.potential_gravity;
+  if (!state_.started) {
+    state_ = {true, total, active};
+    return;
+  }
+  state_.active_max = std::max(state_.active_max, active);
+  const double growth = total - state_.reference;
+  if (growth > 0 && growth > limit_ * state_.active_max) {
+    std::ostringstream msg;
+    msg << "step " << world.step << ", t = " << world.time << " s: the total energy grew by " << growth
+        << " J (from " << state_.reference << " J) although nothing does work on the particles; the largest kinetic + "
+        << "elastic energy so far is " << state_.active_max << " J (simulation.energy_growth_limit = " << limit_
+        << "); the time step " << world.dt << " s is probably too large for the contact stiffness: try dt/4";
+    throw NumericalError(msg.str());
+  }
+}
+
+}  // namespace tsubu
