@@ -246,9 +246,7 @@ void ForceField::accumulate(World& world) {
         force += fl.force;
         torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
-      } else {
-        p.translational_mass[i] = p.mass[i];
-      }
+      }  // without a fluid it stays the grain mass that Particles::add set
       int count = 0;
       const Results& pr = pair_results_;
       for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {
