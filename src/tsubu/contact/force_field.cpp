@@ -104,12 +104,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
   out.clear();
   if (world.walls.empty()) return;
   const Particles& p = world.particles;
-  const int threads = threads_for(p.size());
-  wall_hits_.resize(static_cast<std::size_t>(threads));
-  for_each_thread(threads, [&](int t) {
-    auto& local = wall_hits_[static_cast<std::size_t>(t)];
-    local.clear();
-    const auto [begin, end] = static_range(p.size(), t, threads);
+  for_each_range(p.size(), wall_hits_, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
         // Centres in front of the plane (see evaluate_walls) and within the skin of touching.

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <utility>
+#include <vector>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -58,6 +59,21 @@ void parallel_for(std::size_t n, Body&& body) {
 inline std::pair<std::size_t, std::size_t> static_range(std::size_t n, int t, int threads) {
   const std::size_t T = static_cast<std::size_t>(threads), k = static_cast<std::size_t>(t);
   return {n * k / T, n * (k + 1) / T};
+}
+
+// body(begin, end, local) over contiguous static ranges of 0..n, one per thread, each thread
+// appending to its own cleared local[t]: concatenated in thread order, the lists are the same
+// for every thread count.
+template <class T, class Body>
+void for_each_range(std::size_t n, std::vector<std::vector<T>>& local, Body&& body) {
+  const int threads = threads_for(n);
+  local.resize(static_cast<std::size_t>(threads));
+  for_each_thread(threads, [&](int t) {
+    auto& mine = local[static_cast<std::size_t>(t)];
+    mine.clear();
+    const auto [begin, end] = static_range(n, t, threads);
+    body(begin, end, mine);
+  });
 }
 
 }  // namespace tsubu

@@ -192,12 +192,7 @@ void MultiLevelGrid::find_pairs(const Particles& p, const Domain& domain, double
   }
 
   // Search: each particle its own level (j > i) and every coarser level.
-  const int threads = threads_for(n);
-  per_thread_.resize(static_cast<std::size_t>(threads));
-  for_each_thread(threads, [&](int t) {
-    auto& local = per_thread_[static_cast<std::size_t>(t)];
-    local.clear();
-    const auto [begin, end] = static_range(n, t, threads);
+  for_each_range(n, per_thread_, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     std::vector<int> axis[3];
     for (auto& a : axis) a.resize(8);
     for (std::size_t i = begin; i < end; ++i) {
