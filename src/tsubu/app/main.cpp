@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, true);
     std::printf("%s: %lld steps of %zu particles in %.3f s (%.4g particle-steps/s); output in %s\n", sc.name.c_str(),
                 static_cast<long long>(s.steps), s.particles, s.wall_seconds,
-                s.wall_seconds > 0 ? static_cast<double>(s.particles) * static_cast<double>(s.steps) / s.wall_seconds : 0.0,
+                s.particle_steps_per_second(),
                 out_dir.c_str());
     for (const auto& [k, v] : s.results) std::printf("  %s = %.6g\n", k.c_str(), v);
     return 0;

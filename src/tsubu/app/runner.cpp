@@ -43,13 +43,12 @@ void write_run_json(const std::string& path, const Scenario& sc, int threads, co
                     const std::string& status, const std::string& message) {
   std::ofstream f(path);
   f << std::setprecision(17);
-  const double ps = s.wall_seconds > 0 ? static_cast<double>(s.particles) * static_cast<double>(s.steps) / s.wall_seconds : 0;
   f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"scenario\": \"" << json_escape(sc.file)
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
     << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
     << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"wall_time_s\": " << s.wall_seconds
-    << ",\n  \"particle_steps_per_second\": " << ps << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
+    << ",\n  \"loop_time_s\": " << s.loop_seconds << ",\n  \"particle_steps_per_second\": " << s.particle_steps_per_second() << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
     << sc.domain.lower.y << ", " << sc.domain.lower.z << "], \"upper\": [" << sc.domain.upper.x << ", " << sc.domain.upper.y
     << ", " << sc.domain.upper.z << "]},\n  \"results\": {";
   const char* sep = "\n";
@@ -262,8 +261,12 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
       write_track();
       if (vtk_every) write_frame();
     }
-    for (std::int64_t s = world.step + 1; s <= steps; ++s) {
+    const std::int64_t loop_first = world.step + 1;
+    const auto loop_start = std::chrono::steady_clock::now();
+    for (std::int64_t s = loop_first; s <= steps; ++s) {
       advance(sc.integrator, world, forces);
+      summary.loop_steps = s - loop_first + 1;
+      summary.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % series_every == 0 || s == steps) write_series();
       if (s % track_every == 0 || s == steps) write_track();
       if (vtk_every && (s % vtk_every == 0 || s == steps)) write_frame();

@@ -13,6 +13,13 @@ struct RunSummary {
   std::size_t particles = 0;
   std::uint64_t contact_evaluations = 0;
   double wall_seconds = 0;
+  // The stepping loop of this session alone (no set-up, first evaluation, or final
+  // checkpoint), like the peers' "Loop time": particle-steps per second come from these.
+  std::int64_t loop_steps = 0;
+  double loop_seconds = 0;
+  double particle_steps_per_second() const {
+    return loop_seconds > 0 ? static_cast<double>(particles) * static_cast<double>(loop_steps) / loop_seconds : 0.0;
+  }
   std::map<std::string, double> results;
 };
 

@@ -50,6 +50,68 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
   }
 }
 
+// What the laws see of touching pair (i, j) with separation d = x_i - x_j.
+ContactGeometry pair_geometry(const Particles& p, std::size_t i, std::size_t j, const Vec3& d) {
+  const double ri = p.radius[i], rj = p.radius[j];
+  const double dist = std::sqrt(norm2(d));
+  ContactGeometry g;
+  g.n = d / dist;
+  g.delta = ri + rj - dist;
+  const double arm_i = ri - 0.5 * g.delta, arm_j = rj - 0.5 * g.delta;
+  const Vec3 v_rel = p.velocity[i] - p.velocity[j] + cross(p.omega[i], -arm_i * g.n) - cross(p.omega[j], arm_j * g.n);
+  g.v_n = dot(v_rel, g.n);
+  g.v_t = v_rel - g.v_n * g.n;
+  g.r_eff = ri * rj / (ri + rj);
+  g.m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+  g.d_mean = ri + rj;
+  g.d_small = 2.0 * std::min(ri, rj);
+  return g;
+}
+
+// A block of touching pairs held as one array per scalar ("lanes"), so that the loop over
+// the block's laws is a vector loop: each iteration reads and writes its own lane only.
+template <std::size_t N>
+struct Lanes {
+  double n[3][N], delta[N], v_n[N], v_t[3][N], r_eff[N], m_eff[N], d_mean[N], d_small[N];  // ContactGeometry
+  double xi[3][N], normal[2][N];                                                          // ContactHistory
+  double total[3][N], tangential[3][N], energy[N], gap_shift[N];                          // ContactForce
+
+  static Vec3 get(const double (&a)[3][N], std::size_t b) { return {a[0][b], a[1][b], a[2][b]}; }
+  static void put(double (&a)[3][N], std::size_t b, const Vec3& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
+
+  void set_geometry(std::size_t b, const ContactGeometry& g) {
+    put(n, b, g.n), put(v_t, b, g.v_t);
+    delta[b] = g.delta, v_n[b] = g.v_n, r_eff[b] = g.r_eff, m_eff[b] = g.m_eff, d_mean[b] = g.d_mean, d_small[b] = g.d_small;
+  }
+  ContactGeometry geometry(std::size_t b, double dt) const {
+    return {get(n, b), delta[b], v_n[b], get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt};
+  }
+  void set_history(std::size_t b, const ContactHistory& h) { put(xi, b, h.xi), normal[0][b] = h.normal[0], normal[1][b] = h.normal[1]; }
+  ContactHistory history(std::size_t b) const { return {get(xi, b), {normal[0][b], normal[1][b]}}; }
+  void set_force(std::size_t b, const ContactForce& f) {
+    put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy, gap_shift[b] = f.gap_shift;
+  }
+  // The law of every lane: a vector loop.
+  template <class Normal, class Tangential>
+  void evaluate_all(std::size_t m, double dt, const Normal& normal_model, const Tangential& tangential_model) {
+#pragma omp simd
+    for (std::size_t b = 0; b < m; ++b) evaluate_one(b, dt, normal_model, tangential_model);
+  }
+  template <class Normal, class Tangential>
+  [[gnu::always_inline]] void evaluate_one(std::size_t b, double dt, const Normal& normal_model, const Tangential& tangential_model) {
+    ContactHistory h = history(b);
+    set_force(b, evaluate(normal_model, tangential_model, geometry(b, dt), h));
+    set_history(b, h);
+  }
+};
+
+// start[i] = first index of `contacts` (sorted by i) whose particle is at least i.
+void first_contacts(const std::vector<Contact>& contacts, std::size_t n, std::vector<std::uint32_t>& start) {
+  start.assign(n + 1, 0);
+  for (const Contact& c : contacts) ++start[c.i + 1];
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+}
+
 }  // namespace
 
 void ForceField::Results::resize(std::size_t n, bool shifts) {
@@ -117,48 +179,67 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
 }
 
 void ForceField::evaluate_pairs(World& world) {
-  const Particles& p = world.particles;
   auto& contacts = world.pair_contacts;
   pair_results_.resize(contacts.size(), shifts_);
-  const double dt = world.dt;
-  auto law_of = [&](std::size_t k) -> const PairLaw& {
-    return world.laws.at(p.material[contacts[k].i], p.material[contacts[k].j]);
-  };
-  for_each_contact(world.laws, contacts.size(), law_of, [&](std::size_t k, const auto& normal, const auto& tangential) {
-    Contact& c = contacts[k];
-    const std::size_t i = c.i, j = c.j;
-    const Vec3 d = world.domain.separation(p.position[i], p.position[j]);
-    const double ri = p.radius[i], rj = p.radius[j];
-    const double dist2 = norm2(d);
-    c.touching = dist2 < (ri + rj) * (ri + rj);
-    if (!c.touching) {
-      c.history = {};
-      pair_results_.set(k, {}, {}, {}, 0, 0);
-      if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
-      return;
-    }
-    const double dist = std::sqrt(dist2);
-    ContactGeometry g;
-    g.n = d / dist;
-    g.delta = ri + rj - dist;
-    const double arm_i = ri - 0.5 * g.delta, arm_j = rj - 0.5 * g.delta;
-    const Vec3 v_rel = p.velocity[i] - p.velocity[j] + cross(p.omega[i], -arm_i * g.n) - cross(p.omega[j], arm_j * g.n);
-    g.v_n = dot(v_rel, g.n);
-    g.v_t = v_rel - g.v_n * g.n;
-    g.r_eff = ri * rj / (ri + rj);
-    g.m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-    g.d_mean = ri + rj;
-    g.d_small = 2.0 * std::min(ri, rj);
-    g.dt = dt;
-    const ContactForce f = evaluate(normal, tangential, g, c.history);
-    const Vec3 n_x_ft = cross(g.n, f.tangential);
-    pair_results_.set(k, f.total, -arm_i * n_x_ft, -arm_j * n_x_ft, f.energy, g.delta / g.d_small);
-    if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) {
-      // Split like an impulse: the centre of mass stays where it is.
-      pair_results_.shift_i[k] = (f.gap_shift * g.m_eff / p.mass[i]) * g.n;
-      pair_results_.shift_j[k] = (-f.gap_shift * g.m_eff / p.mass[j]) * g.n;
-    }
+  // Blocks are fixed ranges of the list, the same for any thread count, so each contact is
+  // computed by the same instructions (vector lane or scalar tail) whatever the threads.
+  const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
+  const int threads = threads_for(contacts.size());
+  for_each_thread(threads, [&](int t) {
+    const auto [first, last] = static_range(blocks, t, threads);
+    for (std::size_t block = first; block < last; ++block)
+      evaluate_pair_block(world, block * kBlock, std::min((block + 1) * kBlock, contacts.size()));
   });
+}
+
+void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end) {
+  const Particles& p = world.particles;
+  auto& contacts = world.pair_contacts;
+  // Scalar pass: which listed pairs touch now; their geometry and history go into lanes.
+  Lanes<kBlock> lanes;
+  std::uint32_t touching[kBlock];
+  std::size_t m = 0;
+  for (std::size_t k = begin; k < end; ++k) {
+    Contact& c = contacts[k];
+    const Vec3 d = world.domain.separation(p.position[c.i], p.position[c.j]);
+    const double reach = p.radius[c.i] + p.radius[c.j];
+    c.touching = norm2(d) < reach * reach;
+    if (c.touching) {
+      touching[m] = static_cast<std::uint32_t>(k);
+      lanes.set_geometry(m, pair_geometry(p, c.i, c.j, d));
+      lanes.set_history(m++, c.history);
+      continue;
+    }
+    c.history = {};
+    pair_results_.set(k, {}, {}, {}, 0, 0);
+    if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
+  }
+  const double dt = world.dt;
+  if (world.laws.uniform()) {
+    std::visit([&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, dt, normal, tangential); },
+               world.laws.laws.front().normal, world.laws.laws.front().tangential);
+  } else {
+    for (std::size_t b = 0; b < m; ++b) {
+      const Contact& c = contacts[touching[b]];
+      const PairLaw& law = world.laws.at(p.material[c.i], p.material[c.j]);
+      std::visit([&](const auto& nm, const auto& tm) { lanes.evaluate_one(b, dt, nm, tm); }, law.normal, law.tangential);
+    }
+  }
+  for (std::size_t b = 0; b < m; ++b) {
+    const std::size_t k = touching[b];
+    Contact& c = contacts[k];
+    c.history = lanes.history(b);
+    const double delta = lanes.delta[b];
+    const double arm_i = p.radius[c.i] - 0.5 * delta, arm_j = p.radius[c.j] - 0.5 * delta;
+    const Vec3 n = lanes.get(lanes.n, b);
+    const Vec3 n_x_ft = cross(n, lanes.get(lanes.tangential, b));
+    pair_results_.set(k, lanes.get(lanes.total, b), -arm_i * n_x_ft, -arm_j * n_x_ft, lanes.energy[b], delta / lanes.d_small[b]);
+    if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
+      const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
+      pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
+      pair_results_.shift_j[k] = (-shift / p.mass[c.j]) * n;
+    }
+  }
 }
 
 void ForceField::evaluate_walls(World& world) {
@@ -204,28 +285,27 @@ void ForceField::evaluate_walls(World& world) {
 
 void ForceField::index_contacts(const World& world) {
   const std::size_t n = world.particles.size();
-  pair_start_.assign(n + 1, 0);
-  for (const Contact& c : world.pair_contacts) ++pair_start_[c.i + 1], ++pair_start_[c.j + 1];
-  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
-  pair_index_.resize(pair_start_[n]);
-  std::vector<std::uint32_t> fill(pair_start_.begin(), pair_start_.end() - 1);
-  for (std::uint32_t k = 0; k < world.pair_contacts.size(); ++k) {
-    const Contact& c = world.pair_contacts[k];
-    pair_index_[fill[c.i]++] = k;
-    pair_index_[fill[c.j]++] = k | kSecondParticle;
-  }
-  wall_start_.assign(n + 1, 0);
-  for (const Contact& c : world.wall_contacts) ++wall_start_[c.i + 1];
-  for (std::size_t i = 0; i < n; ++i) wall_start_[i + 1] += wall_start_[i];
+  const auto& contacts = world.pair_contacts;
+  first_contacts(contacts, n, first_start_);
+  second_start_.assign(n + 1, 0);
+  for (const Contact& c : contacts) ++second_start_[c.j + 1];
+  for (std::size_t i = 0; i < n; ++i) second_start_[i + 1] += second_start_[i];
+  second_index_.resize(contacts.size());
+  std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
+  for (std::uint32_t k = 0; k < contacts.size(); ++k) second_index_[fill[contacts[k].j]++] = k;
+  first_contacts(world.wall_contacts, n, wall_start_);
 }
 
 void ForceField::accumulate(World& world) {
   Particles& p = world.particles;
   // Each particle gathers its own contacts in ascending contact order, so the sums are the
-  // same bits for every thread count (and no two threads write the same particle).
+  // same bits for every thread count (and no two threads write the same particle). Listed
+  // pairs that do not touch hold zeros and are added without a test (no branch to miss).
   const int threads = threads_for(p.size());
   std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);
+  const Results& pr = pair_results_;
+  const Results& wr = wall_results_;
   for_each_thread(threads, [&](int t) {
     const auto [begin, end] = static_range(p.size(), t, threads);
     double local_worst = 0;
@@ -242,40 +322,34 @@ void ForceField::accumulate(World& world) {
         torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
       }  // without a fluid it stays the grain mass that Particles::add set
-      int count = 0;
-      const Results& pr = pair_results_;
-      for (std::uint32_t s = pair_start_[i]; s < pair_start_[i + 1]; ++s) {
-        const std::uint32_t k = pair_index_[s] & ~kSecondParticle;
-        const double ratio = pr.overlap_ratio[k];
-        if (!(ratio > 0)) continue;
-        if (!(pair_index_[s] & kSecondParticle)) {
-          force += pr.force_i[k];
-          torque += pr.torque_i[k];
-          if (shifts_) shift += pr.shift_i[k];
-          ++local_touching;  // each pair once, from its first particle
-        } else {
-          force -= pr.force_i[k];
-          torque += pr.torque_j[k];
-          if (shifts_) shift += pr.shift_j[k];
-        }
-        ++count;
-        local_worst = std::max(local_worst, ratio);
+      int count = 0, own = 0;
+      for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) {  // i is the pair's j
+        const std::uint32_t k = second_index_[s];
+        force -= pr.force_i[k];
+        torque += pr.torque_j[k];
+        if (shifts_) shift += pr.shift_j[k];
+        count += pr.overlap_ratio[k] > 0;
+        local_worst = std::max(local_worst, pr.overlap_ratio[k]);
       }
-      const Results& wr = wall_results_;
+      for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) {  // i is the pair's i
+        force += pr.force_i[k];
+        torque += pr.torque_i[k];
+        if (shifts_) shift += pr.shift_i[k];
+        own += pr.overlap_ratio[k] > 0;
+        local_worst = std::max(local_worst, pr.overlap_ratio[k]);
+      }
       for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
-        const double ratio = wr.overlap_ratio[k];
-        if (!(ratio > 0)) continue;
         force += wr.force_i[k];
         torque += wr.torque_i[k];
         if (shifts_) shift += wr.shift_i[k];
-        ++count;
-        ++local_touching;
-        local_worst = std::max(local_worst, ratio);
+        own += wr.overlap_ratio[k] > 0;
+        local_worst = std::max(local_worst, wr.overlap_ratio[k]);
       }
+      local_touching += static_cast<std::uint64_t>(own);  // each pair once, from its first particle
       if (!std::isfinite(force.x + force.y + force.z)) local_worst = INFINITY;
       p.force[i] = force;
       p.torque[i] = torque;
-      p.contact_count[i] = count;
+      p.contact_count[i] = count + own;
       if (shifts_) p.position[i] = world.domain.wrap(p.position[i] + shift);  // model P's contact step
     }
     worst[static_cast<std::size_t>(t)] = local_worst;

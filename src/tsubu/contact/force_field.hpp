@@ -59,16 +59,20 @@ class ForceField {
   bool shifts_ = false;         // some law corrects positions
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
   double skin_ = 0;
-  // Contacts of each particle: pair_index_[pair_start_[i] .. pair_start_[i+1]) are contact
-  // numbers in ascending order, with kSecondParticle set where i is the pair's j.
-  static constexpr std::uint32_t kSecondParticle = 1u << 31;
-  std::vector<std::uint32_t> pair_start_, pair_index_, wall_start_;
+  // Contacts of each particle, in ascending contact order. The lists are sorted by (i, j), so
+  // the pairs where particle i is the first are the range [first_start_[i], first_start_[i+1]),
+  // and those where it is the second, which all come before them, are
+  // second_index_[second_start_[i] .. second_start_[i+1]). Its walls: [wall_start_[i], wall_start_[i+1]).
+  std::vector<std::uint32_t> first_start_, second_start_, second_index_, wall_start_;
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
   bool needs_rebuild(const World& world) const;
   void rebuild(World& world);
   void find_wall_contacts(const World& world, std::vector<Pair>& out);
+  // Pair contacts go in blocks of kBlock list entries (see evaluate_pair_block).
+  static constexpr std::size_t kBlock = 32;
   void evaluate_pairs(World& world);
+  void evaluate_pair_block(World& world, std::size_t begin, std::size_t end);
   void evaluate_walls(World& world);
   void index_contacts(const World& world);
   void accumulate(World& world);

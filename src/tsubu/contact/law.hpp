@@ -31,7 +31,7 @@ struct ContactForce {
 };
 
 template <class Normal, class Tangential>
-inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
+[[gnu::always_inline]] inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
                              const ContactGeometry& g, ContactHistory& h) {
   const NormalForce fn = normal.force(g, h);
   const Vec3 ft = tangential.force(g, fn, h.xi);

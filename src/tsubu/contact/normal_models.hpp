@@ -21,7 +21,7 @@ struct LinearDashpot {
   double k_n = 0;   // N/m
   double beta = 0;  // damping ratio from the restitution
 
-  NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
     const double eta = 2.0 * beta * std::sqrt(g.m_eff * k_n);
     return {k_n * g.delta - eta * g.v_n, k_n, eta, 0.5 * k_n * g.delta * g.delta};
   }
@@ -36,7 +36,7 @@ struct HertzTsuji {
 
   static double alpha_of(double e) { return std::sqrt(5.0) * damping_ratio(e); }
 
-  NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
     const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
     const double root_delta = std::sqrt(g.delta);
     const double f_el = K * g.delta * root_delta;
@@ -53,7 +53,7 @@ struct HertzSediment {
   double e_star = 0;  // Pa
   double alpha = 0;   // paper Table 1: 0.2
 
-  NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
     const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
     const double root_delta = std::sqrt(g.delta);
     const double f_el = K * g.delta * root_delta;

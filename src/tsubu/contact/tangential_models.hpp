@@ -8,15 +8,14 @@
 namespace tsubu {
 
 // Carry the spring into the current tangent plane (keeping its length), then stretch it by
-// the tangential displacement of this step.
-inline void advance_spring(Vec3& xi, const ContactGeometry& g) {
+// the tangential displacement of this step. Written with selects, not branches, so that the
+// force loop vectorises (a zero spring stays zero).
+[[gnu::always_inline]] inline void advance_spring(Vec3& xi, const ContactGeometry& g) {
   const double len2 = norm2(xi);
-  if (len2 > 0) {
-    Vec3 projected = xi - dot(xi, g.n) * g.n;
-    const double p2 = norm2(projected);
-    xi = p2 > 0 ? projected * std::sqrt(len2 / p2) : Vec3{};
-  }
-  xi += g.v_t * g.dt;
+  const Vec3 projected = xi - dot(xi, g.n) * g.n;
+  const double p2 = norm2(projected);
+  const double keep_length = p2 > 0 ? std::sqrt(len2 / p2) : 0.0;
+  xi = projected * keep_length + g.v_t * g.dt;
 }
 
 // Frictionless.
@@ -26,7 +25,7 @@ struct NoFriction {
 
 // LIGGGHTS' order (tangential history): stretch the spring by v_t dt first, then drop its
 // normal component (its length is not kept).
-inline void advance_spring_projected(Vec3& xi, const ContactGeometry& g) {
+[[gnu::always_inline]] inline void advance_spring_projected(Vec3& xi, const ContactGeometry& g) {
   xi += g.v_t * g.dt;
   xi -= dot(xi, g.n) * g.n;
 }
@@ -42,7 +41,7 @@ struct LinearCoulomb {
   double mu = 0;               // friction coefficient
   bool projected = false;
 
-  Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+  [[gnu::always_inline]] Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
     if (projected) advance_spring_projected(xi, g);
     else advance_spring(xi, g);
     const double k_t = stiffness_ratio * fn.stiffness;
@@ -66,21 +65,17 @@ struct MindlinSlip {
   double sigma = 0;          // Poisson's ratio of the pair
   double damping_ratio = 1;  // eta_t / eta_n
 
-  Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+  [[gnu::always_inline]] Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
     advance_spring(xi, g);
     const double xi_max = mu * (2.0 - sigma) / (2.0 * (1.0 - sigma)) * g.delta;
-    Vec3 f_t = -damping_ratio * fn.damping * g.v_t;
-    double len = norm(xi);
-    if (len > xi_max) {
-      xi *= xi_max / len;
-      len = xi_max;
-    }
-    if (len > 0 && xi_max > 0) {
-      const double free = 1.0 - len / xi_max;
-      const double chi = 1.0 - free * std::sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
-      f_t -= (mu * chi * std::abs(fn.f) / len) * xi;
-    }
-    return f_t;
+    const double len = norm(xi);
+    const bool slips = len > xi_max;
+    xi *= slips ? xi_max / len : 1.0;  // the spring never exceeds xi_max
+    const double stretch = slips ? xi_max : len;
+    const double free = 1.0 - stretch / xi_max;
+    const double chi = 1.0 - free * std::sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
+    const double pull = stretch > 0 && xi_max > 0 ? mu * chi * std::abs(fn.f) / stretch : 0.0;
+    return -damping_ratio * fn.damping * g.v_t - pull * xi;
   }
 };
 
