@@ -7,6 +7,7 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <type_traits>
@@ -28,28 +29,61 @@ constexpr char kMagic[8] = {'T', 'S', 'U', 'B', 'U', 'C', 'K', 'P'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderSize = 32;
 
-std::uint64_t fnv1a64(const char* data, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ULL;
+std::uint64_t fnv1a64(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ULL) {
   for (std::size_t k = 0; k < n; ++k) h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ULL;
   return h;
 }
 
+[[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
+  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+}
+
+void write_all(int fd, const char* data, std::size_t n, const std::filesystem::path& name) {
+  std::size_t done = 0;
+  while (done < n) {
+    const ssize_t k = ::write(fd, data + done, n - done);
+    if (k < 0) {
+      if (errno == EINTR) continue;
+      fail_errno("cannot write", name);
+    }
+    done += static_cast<std::size_t>(k);
+  }
+}
+
+// The 32-byte header: magic, version, byte-order mark, payload size, FNV-1a 64 of the payload.
+std::string header(std::uint64_t size, std::uint64_t sum) {
+  std::string out(kHeaderSize, '\0');
+  char* h = out.data();
+  std::memcpy(h, kMagic, 8);
+  const std::uint32_t version = kCheckpointVersion;
+  std::memcpy(h + 8, &version, 4);
+  std::memcpy(h + 12, &kByteOrderMark, 4);
+  std::memcpy(h + 16, &size, 8);
+  std::memcpy(h + 24, &sum, 8);
+  return out;
+}
+
+// Appends the payload to a string, or streams it to a file through a small buffer (a
+// checkpoint of a large run must not hold a second copy of the state in memory); keeps the
+// size and the running FNV-1a checksum.
 class Writer {
  public:
-  std::string bytes;
+  explicit Writer(std::string* out) : bytes_(out) {}
+  explicit Writer(int fd, const std::filesystem::path& name) : fd_(fd), name_(name) {}
+  std::uint64_t size = 0, checksum = fnv1a64(nullptr, 0);
   template <class T>
   void pod(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+    raw(&v, sizeof v);
   }
   void u64(std::uint64_t v) { pod(v); }
   void str(const std::string& s) {
     u64(s.size());
-    bytes += s;
+    raw(s.data(), s.size());
   }
   template <class T>
   void array(const std::vector<T>& v) {  // the count is written once, before all arrays
-    if (!v.empty()) bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    raw(v.data(), v.size() * sizeof(T));
   }
   void contacts(const std::vector<Contact>& list) {
     u64(list.size());
@@ -60,6 +94,25 @@ class Writer {
       pod(c.history.xi);
       pod(c.history.normal);
     }
+  }
+  void flush() {
+    write_all(fd_, buffer_.data(), buffer_.size(), name_);
+    buffer_.clear();
+  }
+
+ private:
+  std::string* bytes_ = nullptr;
+  int fd_ = -1;
+  std::filesystem::path name_;
+  std::string buffer_;
+  void raw(const void* data, std::size_t n) {
+    if (n == 0) return;
+    const char* d = static_cast<const char*>(data);
+    checksum = fnv1a64(d, n, checksum);
+    size += n;
+    std::string& out = bytes_ ? *bytes_ : buffer_;
+    out.append(d, n);
+    if (!bytes_ && buffer_.size() >= (1u << 20)) flush();
   }
 };
 
@@ -116,14 +169,7 @@ class Reader {
   }
 };
 
-[[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
-  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
-}
-
-}  // namespace
-
-std::string encode_checkpoint(const Checkpoint& c) {
-  Writer w;
+void write_payload(const Checkpoint& c, Writer& w) {
   w.str(c.engine_version);
   w.str(c.scenario_path);
   w.str(c.scenario_text);
@@ -164,16 +210,15 @@ std::string encode_checkpoint(const Checkpoint& c) {
   w.pod(c.energy_watch.reference);
   w.pod(c.energy_watch.active_max);
 
-  std::string out(kHeaderSize, '\0');
-  char* h = out.data();
-  std::memcpy(h, kMagic, 8);
-  const std::uint32_t version = kCheckpointVersion;
-  std::memcpy(h + 8, &version, 4);
-  std::memcpy(h + 12, &kByteOrderMark, 4);
-  const std::uint64_t size = w.bytes.size(), sum = fnv1a64(w.bytes.data(), w.bytes.size());
-  std::memcpy(h + 16, &size, 8);
-  std::memcpy(h + 24, &sum, 8);
-  return out + w.bytes;
+}
+
+}  // namespace
+
+std::string encode_checkpoint(const Checkpoint& c) {
+  std::string payload;
+  Writer w(&payload);
+  write_payload(c, w);
+  return header(w.size, w.checksum) + payload;
 }
 
 Checkpoint decode_checkpoint(const std::string& bytes) {
@@ -251,19 +296,15 @@ void sync_file(const std::filesystem::path& path) {
   if (rc != 0) fail_errno("cannot fsync", path);
 }
 
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill) {
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) fail_errno("cannot create", tmp);
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (k < 0) {
-      if (errno == EINTR) continue;
-      ::close(fd);
-      fail_errno("cannot write", tmp);
-    }
-    done += static_cast<std::size_t>(k);
+  try {
+    fill(fd);
+  } catch (...) {
+    ::close(fd);
+    throw;
   }
   if (::fsync(fd) != 0) {
     ::close(fd);
@@ -277,6 +318,10 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+  write_file_atomically(path, [&](int fd) { write_all(fd, bytes.data(), bytes.size(), path); });
 }
 
 std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& dir) {
@@ -300,7 +345,15 @@ std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const C
   char name[40];
   std::snprintf(name, sizeof name, "step_%012lld.tsbk", static_cast<long long>(c.step));
   const std::filesystem::path file = dir / name;
-  write_file_atomically(file, encode_checkpoint(c));
+  // Streamed: the header's size and checksum are known at the end and written last.
+  write_file_atomically(file, [&](int fd) {
+    write_all(fd, header(0, 0).data(), kHeaderSize, file);
+    Writer w(fd, file);
+    write_payload(c, w);
+    w.flush();
+    const std::string h = header(w.size, w.checksum);
+    if (::pwrite(fd, h.data(), kHeaderSize, 0) != static_cast<ssize_t>(kHeaderSize)) fail_errno("cannot write", file);
+  });
   const auto all = list_checkpoints(dir);
   for (std::size_t k = static_cast<std::size_t>(std::max(keep, 1)); k < all.size(); ++k) std::filesystem::remove(all[k]);
   std::error_code ec;

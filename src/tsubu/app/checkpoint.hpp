@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -51,8 +52,10 @@ std::string encode_checkpoint(const Checkpoint& c);
 // Throws CheckpointError naming what is wrong.
 Checkpoint decode_checkpoint(const std::string& bytes);
 
-// Writes `bytes` to path.tmp, fsyncs it, renames it to `path` and fsyncs the folder.
+// Writes `bytes` (or what `fill` writes to the open descriptor) to path.tmp, fsyncs it,
+// renames it to `path` and fsyncs the folder.
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill);
 // fsync of an existing file (data written through another handle).
 void sync_file(const std::filesystem::path& path);
 

@@ -218,9 +218,18 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     c.output.pvd = pvd.frames();
     c.output.series_bytes = fs::file_size(series_path);
     c.output.track_bytes = track.is_open() ? fs::file_size(track_path) : 0;
-    c.particles = world.particles;
-    c.pair_contacts = world.pair_contacts;
-    c.wall_contacts = world.wall_contacts;
+    // The particles and contact lists are lent to the checkpoint, not copied (a copy of a
+    // large run's state would double its peak memory), and given back whatever happens.
+    auto lend = [&] {
+      std::swap(c.particles, world.particles);
+      std::swap(c.pair_contacts, world.pair_contacts);
+      std::swap(c.wall_contacts, world.wall_contacts);
+    };
+    lend();
+    struct GiveBack {
+      decltype(lend)& back;
+      ~GiveBack() { back(); }
+    } give_back{lend};
     c.wall_points.clear();
     c.wall_velocities.clear();
     for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
