@@ -50,21 +50,22 @@ bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 // The force sums are accumulated serially in contact order, so 1 and 2 threads give the same
 // bits, not just agreement to round-off.
 TEST(Threads, OneAndTwoThreadsGiveIdenticalBits) {
-  const World one = run("lattice_threads.toml", 1);
-  const World two = run("lattice_threads.toml", 2);
+  const std::vector<std::string> sorted = {"search.sort_every=50"};  // sorting takes part
+  const World one = run("lattice_threads.toml", 1, sorted);
+  const World two = run("lattice_threads.toml", 2, sorted);
   ASSERT_GT(one.pair_contacts.size(), 4096u) << "the parallel contact loop must be exercised";
   EXPECT_TRUE(same_bits(one.particles.position, two.particles.position));
   EXPECT_TRUE(same_bits(one.particles.velocity, two.particles.velocity));
   EXPECT_TRUE(same_bits(one.particles.omega, two.particles.omega));
-  const World again = run("lattice_threads.toml", 2);
+  const World again = run("lattice_threads.toml", 2, sorted);
   EXPECT_TRUE(same_bits(two.particles.position, again.particles.position));
 }
 
 // Touching contacts are summed in (i, j) order whatever else the neighbour list holds, so the
 // skin changes the number of list rebuilds, never the result.
 TEST(NeighbourList, SkinDoesNotChangeTheResult) {
-  const World thin = run("lattice_threads.toml", 1, {"simulation.skin=2e-5"});
-  const World thick = run("lattice_threads.toml", 1, {"simulation.skin=8e-4"});
+  const World thin = run("lattice_threads.toml", 1, {"simulation.skin=2e-5", "search.sort_every=50"});
+  const World thick = run("lattice_threads.toml", 1, {"simulation.skin=8e-4", "search.sort_every=50"});
   EXPECT_TRUE(same_bits(thin.particles.position, thick.particles.position));
   EXPECT_TRUE(same_bits(thin.particles.velocity, thick.particles.velocity));
   EXPECT_TRUE(same_bits(thin.particles.omega, thick.particles.omega));

@@ -129,17 +129,17 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
   series << std::setprecision(12);
   PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
   if (from) pvd.restore(from->output.pvd);
-  std::vector<std::size_t> tracked;  // indices of the tracked particle ids
-  for (std::int64_t id : sc.output.track) {
-    const auto it = std::find(world.particles.id.begin(), world.particles.id.end(), id);
-    if (it == world.particles.id.end())
+  // Index of particle `id` now (spatial sorting moves particles between indices).
+  auto index_of = [&](std::int64_t id) {
+    return static_cast<std::size_t>(std::find(world.particles.id.begin(), world.particles.id.end(), id) - world.particles.id.begin());
+  };
+  for (std::int64_t id : sc.output.track)
+    if (index_of(id) == world.particles.size())
       throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
                        "no particle has id " + std::to_string(id) + "; ids run from 0 to " +
                            std::to_string(static_cast<long>(world.particles.size()) - 1) + " in the order of [[particles]]");
-    tracked.push_back(static_cast<std::size_t>(it - world.particles.id.begin()));
-  }
   std::ofstream track;
-  if (!tracked.empty()) {
+  if (!sc.output.track.empty()) {
     if (from) {
       reopen(track, track_path, from->output.track_bytes);
     } else {
@@ -150,7 +150,8 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
   }
   auto write_track = [&] {
     const Particles& p = world.particles;
-    for (std::size_t i : tracked) {
+    for (std::int64_t id : sc.output.track) {
+      const std::size_t i = index_of(id);
       const Vec3 &x = p.position[i], &v = p.velocity[i], &w = p.omega[i], &f = p.force[i];
       track << world.time << ',' << p.id[i] << ',' << x.x << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ','
             << v.z << ',' << w.x << ',' << w.y << ',' << w.z << ',' << f.x << ',' << f.y << ',' << f.z << ','

@@ -6,6 +6,7 @@
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/parallel.hpp"
+#include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
 
@@ -126,6 +127,11 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
 
 void ForceField::compute(World& world) {
   shifts_ = world.laws.corrects_positions();
+  const std::int64_t sort_every = world.search.sort_every;
+  if (sort_every > 0 && world.step % sort_every == 0) {
+    sort_spatially(world);
+    built_at_.clear();  // the lists are renumbered: rebuild them now
+  }
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);

@@ -380,6 +380,9 @@ void read_search(Section s, Scenario& sc) {
                            std::to_string(levels));
     sc.search.levels = static_cast<int>(levels);
   }
+  const std::int64_t sort_every = s.integer("sort_every", sc.search.sort_every);
+  if (sort_every < 0) s.fail("sort_every", "allowed 0 (never) or a positive number of steps, got " + std::to_string(sort_every));
+  sc.search.sort_every = sort_every;
   s.finish();
 }
 

@@ -81,7 +81,7 @@ struct Scenario {
   std::vector<ParticleSource> sources;
   OutputSpec output;
   std::vector<AnalysisSpec> analyses;
-  SearchSpec search;  // [search]: contact search method
+  SearchSpec search{SearchSpec::Method::cell, 0, 1000};  // [search]: contact search method, spatial sort every 1000 steps
 };
 
 // Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)

@@ -125,6 +125,7 @@ struct SearchSpec {
   enum class Method { cell, multilevel };
   Method method = Method::cell;
   int levels = 0;  // multilevel: number of levels, 0 = automatic
+  std::int64_t sort_every = 0;  // steps between spatial sorts of the particles (0: never)
 };
 
 // Holds the configured search; find_pairs as CellGrid's.

@@ -26,6 +26,13 @@ struct Particles {
 
   std::size_t size() const { return radius.size(); }
 
+  // f(array) for every per-particle array, to move or copy particles with all they carry.
+  template <class F>
+  void for_each_array(F&& f) {
+    f(id), f(material), f(radius), f(mass), f(translational_mass), f(inertia);
+    f(position), f(velocity), f(omega), f(force), f(torque), f(contact_count);
+  }
+
   void add(std::int64_t pid, int mat, double diameter, double density, const Vec3& x, const Vec3& v) {
     const double r = 0.5 * diameter;
     const double m = density * (4.0 / 3.0) * M_PI * r * r * r;

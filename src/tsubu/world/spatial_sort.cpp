@@ -1,0 +1,67 @@
+#include "tsubu/world/spatial_sort.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+
+namespace tsubu {
+
+namespace {
+
+// The bits of v spread to every third bit (21 bits in, 63 out).
+std::uint64_t spread(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+template <class T>
+void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
+  std::vector<T> sorted(a.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = a[order[k]];
+  a.swap(sorted);
+}
+
+bool by_pair(const Contact& a, const Contact& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
+
+}  // namespace
+
+void sort_spatially(World& world) {
+  Particles& p = world.particles;
+  const std::size_t n = p.size();
+  if (n < 2) return;
+  const double cell = 2.0 * *std::min_element(p.radius.begin(), p.radius.end());
+  constexpr double kMaxCell = (1 << 21) - 1;
+  std::vector<std::uint64_t> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double c = std::clamp(std::floor((p.position[i][a] - world.domain.lower[a]) / cell), 0.0, kMaxCell);
+      code |= spread(static_cast<std::uint64_t>(c)) << a;
+    }
+    key[i] = code;
+  }
+  std::vector<std::uint32_t> order(n);  // order[new] = old
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  p.for_each_array([&](auto& array) { permute(array, order); });
+
+  std::vector<std::uint32_t> renumber(n);  // renumber[old] = new
+  for (std::uint32_t k = 0; k < n; ++k) renumber[order[k]] = k;
+  for (Contact& c : world.pair_contacts) {
+    c.i = renumber[c.i], c.j = renumber[c.j];
+    if (c.i > c.j) {
+      std::swap(c.i, c.j);
+      c.history.xi = -c.history.xi;
+    }
+  }
+  for (Contact& c : world.wall_contacts) c.i = renumber[c.i];
+  std::sort(world.pair_contacts.begin(), world.pair_contacts.end(), by_pair);
+  std::sort(world.wall_contacts.begin(), world.wall_contacts.end(), by_pair);
+}
+
+}  // namespace tsubu

@@ -1,0 +1,14 @@
+// Spatial sorting: the particles are renumbered along a Z-order (Morton) curve, so that
+// grains close in space are close in memory and the force loop's reads of partners hit the
+// cache. Ids, contact histories and every per-particle array move with their particle.
+#pragma once
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// Reorders world.particles by the Morton code of cells of the smallest diameter (ties keep
+// their order) and renumbers the contact lists to match, sorted by (i, j) again; a pair
+// whose particles swap order gets its tangential spring reversed (it is measured from i).
+void sort_spatially(World& world);
+
+}  // namespace tsubu
