@@ -16,6 +16,7 @@
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/source/size_distribution.hpp"
+#include "scenario_run.hpp"
 
 namespace tsubu {
 namespace {
@@ -197,18 +198,10 @@ TEST(MultiLevelGrid, FewGrainsInAHugeBoxAndEdgeCases) {
 // Whole runs: the force gather sums touching contacts in (i, j) order, so a correct search
 // gives the same bits whatever its method.
 World run(const std::string& name, const std::vector<std::string>& overrides) {
-  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
-  World w = build_world(sc);
-  ForceField f;
-  f.compute(w);
-  const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
-  return w;
+  return testing::run_test_scenario(name, overrides);
 }
 
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
+using testing::same_bits;
 
 TEST(MultiLevelGrid, WholeRunBitIdenticalToCellGrid) {
   const World cell = run("poly_search.toml", {"search.method=\"cell\""});

@@ -7,21 +7,13 @@
 
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/scenario/scenario.hpp"
-#include "tsubu/source/build_world.hpp"
+#include "scenario_run.hpp"
 
 namespace tsubu {
 namespace {
 
 World run(const std::string& name, int threads, const std::vector<std::string>& overrides = {}) {
-  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
-  omp_set_num_threads(threads);
-  World w = build_world(sc);
-  ForceField f;
-  f.compute(w);
-  const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
-  omp_set_num_threads(1);
-  return w;
+  return testing::run_test_scenario(name, overrides, threads);
 }
 
 // A poured monodisperse bed with friction 0.5 packs between random loose (0.55) and random
@@ -43,9 +35,7 @@ TEST(SettledBed, MonodisperseSolidFractionBetweenLooseAndClosePacking) {
   ::testing::Test::RecordProperty("coordination_no_rattlers", std::to_string(z));
 }
 
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
+using testing::same_bits;
 
 // The force sums are accumulated serially in contact order, so 1 and 2 threads give the same
 // bits, not just agreement to round-off.

@@ -8,6 +8,7 @@
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/world/spatial_sort.hpp"
+#include "scenario_run.hpp"
 #include "world_builder.hpp"
 
 namespace tsubu {
@@ -51,15 +52,7 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   EXPECT_EQ(w.wall_contacts[0].history.xi, (Vec3{9, 9, 9}));
 }
 
-World run(const std::vector<std::string>& overrides) {
-  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/settle_mono.toml", overrides);
-  World w = build_world(sc);
-  ForceField f;
-  f.compute(w);
-  const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
-  return w;
-}
+World run(const std::vector<std::string>& overrides) { return testing::run_test_scenario("settle_mono.toml", overrides); }
 
 // Sorting changes only the order in which each particle's contact forces are summed, so a
 // bed being poured, sorted every 500 steps, stays with the unsorted run to round-off: every

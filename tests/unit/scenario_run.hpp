@@ -1,0 +1,34 @@
+// Whole runs of the test scenarios (tests/scenarios/) without output files, for tests that
+// compare final states.
+#pragma once
+#include <omp.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "tsubu/contact/force_field.hpp"
+#include "tsubu/integrate/integrators.hpp"
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu::testing {
+
+inline World run_test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}, int threads = 1) {
+  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
+  omp_set_num_threads(threads);
+  World w = build_world(sc);
+  ForceField f;
+  f.compute(w);
+  const std::int64_t steps = std::llround(sc.duration / sc.dt);
+  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
+  omp_set_num_threads(1);
+  return w;
+}
+
+inline bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+}  // namespace tsubu::testing
