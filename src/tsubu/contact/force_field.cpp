@@ -142,8 +142,14 @@ bool ForceField::needs_rebuild(const World& world) const {
   const Particles& p = world.particles;
   if (built_at_.size() != p.size()) return true;
   const double limit2 = 0.25 * skin_ * skin_;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (norm2(world.domain.separation(p.position[i], built_at_[i])) > limit2) return true;
+  const int threads = threads_for(p.size());
+  std::vector<char> moved(static_cast<std::size_t>(threads), 0);
+  for_each_thread(threads, [&](int t) {
+    const auto [begin, end] = static_range(p.size(), t, threads);
+    for (std::size_t i = begin; i < end && !moved[static_cast<std::size_t>(t)]; ++i)
+      moved[static_cast<std::size_t>(t)] = norm2(world.domain.separation(p.position[i], built_at_[i])) > limit2;
+  });
+  if (std::find(moved.begin(), moved.end(), 1) != moved.end()) return true;
   if (walls_built_at_.size() != world.walls.size()) return true;
   for (std::size_t w = 0; w < world.walls.size(); ++w)
     if (norm2(world.walls[w].point - walls_built_at_[w]) > limit2) return true;  // moving walls

@@ -1,6 +1,9 @@
 #include "tsubu/integrate/integrators.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/parallel.hpp"
@@ -16,37 +19,53 @@ void kick(Particles& p, double h) {
   });
 }
 
-// x <- x + v dt, wrapped into the periodic box. A particle that is not finite or has left
-// a non-periodic side of the box stops the run.
-void drift(World& world, double h) {
+[[noreturn]] void report_lost(const World& world) {
+  const Particles& p = world.particles;
+  std::size_t i = 0;
+  while (i + 1 < p.size() && world.domain.inside(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
+  const Vec3 x = p.position[i], v = p.velocity[i];
+  std::ostringstream msg;
+  msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
+      << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x
+      << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the time step " << world.dt
+      << " s is too large";
+  throw NumericalError(msg.str());
+}
+
+// One pass: v <- v + F h_kick/m (omega likewise), then x <- x + v h_drift wrapped into the
+// periodic box. A particle that is not finite or has left a non-periodic side of the box
+// stops the run.
+void kick_drift(World& world, double h_kick, double h_drift) {
   Particles& p = world.particles;
-  parallel_for(p.size(), [&](std::size_t i) { p.position[i] = world.domain.wrap(p.position[i] + p.velocity[i] * h); });
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 x = p.position[i], v = p.velocity[i];
-    if (world.domain.inside(x) && std::isfinite(x.x + x.y + x.z)) continue;
-    std::ostringstream msg;
-    msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
-        << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x
-        << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the time step " << world.dt
-        << " s is too large";
-    throw NumericalError(msg.str());
-  }
-  for (Wall& w : world.walls) w.advance(world.time, h);
+  const int threads = threads_for(p.size());
+  std::vector<char> lost(static_cast<std::size_t>(threads), 0);
+  for_each_thread(threads, [&](int t) {
+    const auto [begin, end] = static_range(p.size(), t, threads);
+    bool any = false;
+    for (std::size_t i = begin; i < end; ++i) {
+      p.velocity[i] += p.force[i] * (h_kick / p.translational_mass[i]);
+      p.omega[i] += p.torque[i] * (h_kick / p.inertia[i]);
+      const Vec3 x = world.domain.wrap(p.position[i] + p.velocity[i] * h_drift);
+      p.position[i] = x;
+      any |= !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
+    }
+    lost[static_cast<std::size_t>(t)] = any;
+  });
+  if (std::find(lost.begin(), lost.end(), 1) != lost.end()) report_lost(world);
+  for (Wall& w : world.walls) w.advance(world.time, h_drift);
 }
 
 }  // namespace
 
 void symplectic_euler_step(World& world, ForceField& forces) {
-  kick(world.particles, world.dt);
-  drift(world, world.dt);
+  kick_drift(world, world.dt, world.dt);
   ++world.step;
   world.time = static_cast<double>(world.step) * world.dt;
   forces.compute(world);
 }
 
 void velocity_verlet_step(World& world, ForceField& forces) {
-  kick(world.particles, 0.5 * world.dt);
-  drift(world, world.dt);
+  kick_drift(world, 0.5 * world.dt, world.dt);
   ++world.step;
   world.time = static_cast<double>(world.step) * world.dt;
   forces.compute(world);
