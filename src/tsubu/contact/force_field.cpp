@@ -117,8 +117,8 @@ void first_contacts(const std::vector<Contact>& contacts, std::size_t n, std::ve
 
 void ForceField::Results::resize(std::size_t n, bool shifts) {
   force_i.resize(n);
-  torque_i.resize(n);
-  torque_j.resize(n);
+  n_x_ft.resize(n);
+  delta.resize(n);
   energy.resize(n);
   overlap_ratio.resize(n);
   shift_i.assign(shifts ? n : 0, Vec3{});
@@ -160,13 +160,18 @@ void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = world.skin;
   if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  // Peak memory: the per-contact results are recomputed after a build, so they are freed
+  // before it, and the old lists and the search's candidates after it.
+  pair_results_ = {}, wall_results_ = {};
   grid_.configure(world.search);
-  grid_.find_pairs(p, world.domain, skin_, candidates_);
-  carry_history(candidates_, world.pair_contacts, next_);
-  world.pair_contacts.swap(next_);
-  find_wall_contacts(world, candidates_);
-  carry_history(candidates_, world.wall_contacts, next_);
-  world.wall_contacts.swap(next_);
+  std::vector<Pair> candidates;
+  grid_.find_pairs(p, world.domain, skin_, candidates);
+  std::vector<Contact> next;
+  carry_history(candidates, world.pair_contacts, next);
+  world.pair_contacts.swap(next);
+  find_wall_contacts(world, candidates);
+  carry_history(candidates, world.wall_contacts, next);
+  world.wall_contacts.swap(next);
   built_at_ = p.position;
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
@@ -178,7 +183,8 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
   out.clear();
   if (world.walls.empty()) return;
   const Particles& p = world.particles;
-  for_each_range(p.size(), wall_hits_, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
+  std::vector<std::vector<Pair>> wall_hits;
+  for_each_range(p.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
         // Centres in front of the plane (see evaluate_walls) and within the skin of touching.
@@ -187,7 +193,7 @@ void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) 
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
   });
-  for (const auto& local : wall_hits_) out.insert(out.end(), local.begin(), local.end());
+  for (const auto& local : wall_hits) out.insert(out.end(), local.begin(), local.end());
 }
 
 void ForceField::evaluate_pairs(World& world) {
@@ -223,7 +229,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
       continue;
     }
     c.history = {};
-    pair_results_.set(k, {}, {}, {}, 0, 0);
+    pair_results_.set(k, {}, {}, 0, 0, 0);
     if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
   }
   const double dt = world.dt;
@@ -242,10 +248,9 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
     Contact& c = contacts[k];
     c.history = lanes.history(b);
     const double delta = lanes.delta[b];
-    const double arm_i = p.radius[c.i] - 0.5 * delta, arm_j = p.radius[c.j] - 0.5 * delta;
     const Vec3 n = lanes.get(lanes.n, b);
-    const Vec3 n_x_ft = cross(n, lanes.get(lanes.tangential, b));
-    pair_results_.set(k, lanes.get(lanes.total, b), -arm_i * n_x_ft, -arm_j * n_x_ft, lanes.energy[b], delta / lanes.d_small[b]);
+    pair_results_.set(k, lanes.get(lanes.total, b), cross(n, lanes.get(lanes.tangential, b)), delta, lanes.energy[b],
+                      delta / lanes.d_small[b]);
     if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
       const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
       pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
@@ -273,7 +278,7 @@ void ForceField::evaluate_walls(World& world) {
     c.touching = dist < ri && dist > 0;
     if (!c.touching) {
       c.history = {};
-      wall_results_.set(k, {}, {}, {}, 0, 0);
+      wall_results_.set(k, {}, {}, 0, 0, 0);
       if (shifts_) wall_results_.shift_i[k] = {};
       return;
     }
@@ -290,7 +295,7 @@ void ForceField::evaluate_walls(World& world) {
     g.d_small = 2.0 * ri;
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
-    wall_results_.set(k, f.total, -arm_i * cross(g.n, f.tangential), {}, f.energy, g.delta / (2.0 * ri));
+    wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy, g.delta / (2.0 * ri));
     if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) wall_results_.shift_i[k] = f.gap_shift * g.n;
   });
 }
@@ -338,21 +343,21 @@ void ForceField::accumulate(World& world) {
       for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) {  // i is the pair's j
         const std::uint32_t k = second_index_[s];
         force -= pr.force_i[k];
-        torque += pr.torque_j[k];
+        torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_j[k];
         count += pr.overlap_ratio[k] > 0;
         local_worst = std::max(local_worst, pr.overlap_ratio[k]);
       }
       for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) {  // i is the pair's i
         force += pr.force_i[k];
-        torque += pr.torque_i[k];
+        torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_i[k];
         own += pr.overlap_ratio[k] > 0;
         local_worst = std::max(local_worst, pr.overlap_ratio[k]);
       }
       for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
         force += wr.force_i[k];
-        torque += wr.torque_i[k];
+        torque += wr.torque(k, p.radius[i]);
         if (shifts_) shift += wr.shift_i[k];
         own += wr.overlap_ratio[k] > 0;
         local_worst = std::max(local_worst, wr.overlap_ratio[k]);

@@ -40,21 +40,21 @@ class ForceField {
 
  private:
   // Per-contact results, one array per quantity (zeros for pairs that do not touch);
-  // overlap_ratio > 0 marks a touching contact.
+  // overlap_ratio > 0 marks a touching contact. The torques are not stored: each particle
+  // makes its own from n x F_t and its lever arm R - delta/2 (72 bytes a contact, not 104).
   // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
   struct Results {
-    std::vector<Vec3> force_i, torque_i, torque_j, shift_i, shift_j;
-    std::vector<double> energy, overlap_ratio;
+    std::vector<Vec3> force_i, n_x_ft, shift_i, shift_j;
+    std::vector<double> delta, energy, overlap_ratio;
     void resize(std::size_t n, bool shifts);
-    void set(std::size_t k, const Vec3& f, const Vec3& ti, const Vec3& tj, double e, double ratio) {
-      force_i[k] = f, torque_i[k] = ti, torque_j[k] = tj, energy[k] = e, overlap_ratio[k] = ratio;
+    void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e, double ratio) {
+      force_i[k] = f, n_x_ft[k] = n_x_f_t, delta[k] = overlap, energy[k] = e, overlap_ratio[k] = ratio;
     }
+    // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
+    Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * delta[k]) * n_x_ft[k]; }
   };
   PairSearch grid_;
-  std::vector<Pair> candidates_;
-  std::vector<Contact> next_;
   Results pair_results_, wall_results_;
-  std::vector<std::vector<Pair>> wall_hits_;
   std::vector<Vec3> built_at_;  // positions at the last build
   bool shifts_ = false;         // some law corrects positions
   std::vector<Vec3> walls_built_at_;  // wall points at the last build

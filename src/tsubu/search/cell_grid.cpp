@@ -75,7 +75,8 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
     return count;
   };
 
-  for_each_range(n, per_thread_, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
+  std::vector<std::vector<Pair>> per_thread;  // freed on return: the lists are the big memory
+  for_each_range(n, per_thread, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     std::vector<std::uint32_t> found;
     for (std::size_t i = begin; i < end; ++i) {
       const int c = cell_of_[i];
@@ -98,7 +99,10 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
       for (std::uint32_t j : found) local.push_back({static_cast<std::uint32_t>(i), j});
     }
   });
-  for (const auto& local : per_thread_) out.insert(out.end(), local.begin(), local.end());
+  std::size_t total = 0;
+  for (const auto& local : per_thread) total += local.size();
+  out.reserve(total);
+  for (const auto& local : per_thread) out.insert(out.end(), local.begin(), local.end());
 }
 
 }  // namespace tsubu

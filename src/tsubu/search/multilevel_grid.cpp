@@ -192,7 +192,8 @@ void MultiLevelGrid::find_pairs(const Particles& p, const Domain& domain, double
   }
 
   // Search: each particle its own level (j > i) and every coarser level.
-  for_each_range(n, per_thread_, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
+  std::vector<std::vector<Pair>> per_thread;  // freed on return: the lists are the big memory
+  for_each_range(n, per_thread, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     std::vector<int> axis[3];
     for (auto& a : axis) a.resize(8);
     for (std::size_t i = begin; i < end; ++i) {
@@ -236,7 +237,7 @@ void MultiLevelGrid::find_pairs(const Particles& p, const Domain& domain, double
   // Order by (i, j): counting sort on i, then each particle's partners sorted.
   first_.assign(n + 1, 0);
   std::size_t total = 0;
-  for (const auto& local : per_thread_) {
+  for (const auto& local : per_thread) {
     total += local.size();
     for (const Pair& q : local) ++first_[q.i + 1];
   }
@@ -244,7 +245,7 @@ void MultiLevelGrid::find_pairs(const Particles& p, const Domain& domain, double
   out.resize(total);
   {
     std::vector<std::uint32_t> fill(first_.begin(), first_.end() - 1);
-    for (const auto& local : per_thread_)
+    for (const auto& local : per_thread)
       for (const Pair& q : local) out[fill[q.i]++] = q;
   }
   parallel_for(n, [&](std::size_t i) {

@@ -38,7 +38,6 @@ class CellGrid {
   std::vector<int> cell_of_;       // per particle
   std::vector<int> cell_start_;    // per cell + 1, offsets into cell_items_
   std::vector<std::uint32_t> cell_items_;
-  std::vector<std::vector<Pair>> per_thread_;
 
   void bin(const Particles& p, const Domain& domain, double cell_size);
 };
@@ -108,7 +107,6 @@ class MultiLevelGrid {
   std::vector<Level> levels_;
   std::vector<std::uint8_t> level_of_;
   std::vector<int> cell_of_;
-  std::vector<std::vector<Pair>> per_thread_;
   std::vector<std::uint32_t> first_;
   // Automatic level count of the last choice and what it was chosen for.
   int auto_levels_ = 0;
