@@ -47,7 +47,7 @@ void write_run_json(const std::string& path, const Scenario& sc, int threads, co
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
     << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
-    << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"wall_time_s\": " << s.wall_seconds
+    << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"list_builds\": " << s.list_builds << ",\n  \"wall_time_s\": " << s.wall_seconds
     << ",\n  \"loop_time_s\": " << s.loop_seconds << ",\n  \"particle_steps_per_second\": " << s.particle_steps_per_second() << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
     << sc.domain.lower.y << ", " << sc.domain.lower.z << "], \"upper\": [" << sc.domain.upper.x << ", " << sc.domain.upper.y
     << ", " << sc.domain.upper.z << "]},\n  \"results\": {";
@@ -252,6 +252,7 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     summary.steps = world.step;
     summary.wall_seconds = wall_before + elapsed();
     summary.contact_evaluations = forces.evaluations();
+    summary.list_builds = forces.rebuilds();
   };
 
   const std::string json = (fs::path(out_dir) / "run.json").string();

@@ -12,6 +12,7 @@ struct RunSummary {
   std::int64_t steps = 0;
   std::size_t particles = 0;
   std::uint64_t contact_evaluations = 0;
+  std::uint64_t list_builds = 0;  // neighbour-list builds
   double wall_seconds = 0;
   // The stepping loop of this session alone (no set-up, first evaluation, or final
   // checkpoint), like the peers' "Loop time": particle-steps per second come from these.

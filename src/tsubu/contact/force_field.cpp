@@ -120,7 +120,6 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
   n_x_ft.resize(n);
   delta.resize(n);
   energy.resize(n);
-  overlap_ratio.resize(n);
   shift_i.assign(shifts ? n : 0, Vec3{});
   shift_j.assign(shifts ? n : 0, Vec3{});
 }
@@ -229,7 +228,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
       continue;
     }
     c.history = {};
-    pair_results_.set(k, {}, {}, 0, 0, 0);
+    pair_results_.set(k, {}, {}, 0, 0);
     if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
   }
   const double dt = world.dt;
@@ -249,8 +248,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
     c.history = lanes.history(b);
     const double delta = lanes.delta[b];
     const Vec3 n = lanes.get(lanes.n, b);
-    pair_results_.set(k, lanes.get(lanes.total, b), cross(n, lanes.get(lanes.tangential, b)), delta, lanes.energy[b],
-                      delta / lanes.d_small[b]);
+    pair_results_.set(k, lanes.get(lanes.total, b), cross(n, lanes.get(lanes.tangential, b)), delta, lanes.energy[b]);
     if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
       const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
       pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
@@ -278,7 +276,7 @@ void ForceField::evaluate_walls(World& world) {
     c.touching = dist < ri && dist > 0;
     if (!c.touching) {
       c.history = {};
-      wall_results_.set(k, {}, {}, 0, 0, 0);
+      wall_results_.set(k, {}, {}, 0, 0);
       if (shifts_) wall_results_.shift_i[k] = {};
       return;
     }
@@ -295,7 +293,7 @@ void ForceField::evaluate_walls(World& world) {
     g.d_small = 2.0 * ri;
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
-    wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy, g.delta / (2.0 * ri));
+    wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy);
     if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) wall_results_.shift_i[k] = f.gap_shift * g.n;
   });
 }
@@ -339,29 +337,33 @@ void ForceField::accumulate(World& world) {
         torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
       }  // without a fluid it stays the grain mass that Particles::add set
+      // Every pair is gathered by both its particles, so the largest overlap over the own
+      // diameter, taken over all particles, is the largest overlap over the smaller diameter.
       int count = 0, own = 0;
+      double deepest = 0;
       for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) {  // i is the pair's j
         const std::uint32_t k = second_index_[s];
         force -= pr.force_i[k];
         torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_j[k];
-        count += pr.overlap_ratio[k] > 0;
-        local_worst = std::max(local_worst, pr.overlap_ratio[k]);
+        count += pr.delta[k] > 0;
+        deepest = std::max(deepest, pr.delta[k]);
       }
       for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) {  // i is the pair's i
         force += pr.force_i[k];
         torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_i[k];
-        own += pr.overlap_ratio[k] > 0;
-        local_worst = std::max(local_worst, pr.overlap_ratio[k]);
+        own += pr.delta[k] > 0;
+        deepest = std::max(deepest, pr.delta[k]);
       }
       for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
         force += wr.force_i[k];
         torque += wr.torque(k, p.radius[i]);
         if (shifts_) shift += wr.shift_i[k];
-        own += wr.overlap_ratio[k] > 0;
-        local_worst = std::max(local_worst, wr.overlap_ratio[k]);
+        own += wr.delta[k] > 0;
+        deepest = std::max(deepest, wr.delta[k]);
       }
+      local_worst = std::max(local_worst, deepest / (2.0 * p.radius[i]));
       local_touching += static_cast<std::uint64_t>(own);  // each pair once, from its first particle
       if (!std::isfinite(force.x + force.y + force.z)) local_worst = INFINITY;
       p.force[i] = force;
@@ -379,16 +381,16 @@ void ForceField::accumulate(World& world) {
 
 ContactTotals ForceField::totals(const World& world) const {
   ContactTotals totals;
-  auto add = [&](const std::vector<Contact>& contacts, const Results& results) {
+  auto add = [&](const std::vector<Contact>& contacts, const Results& results, bool is_wall) {
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       if (!contacts[k].touching) continue;
       ++totals.contacts;
       totals.elastic_energy += results.energy[k];
-      totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, results.overlap_ratio[k]);
+      totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, overlap_ratio(world, k, is_wall));
     }
   };
-  add(world.pair_contacts, pair_results_);
-  add(world.wall_contacts, wall_results_);
+  add(world.pair_contacts, pair_results_, false);
+  add(world.wall_contacts, wall_results_, true);
   return totals;
 }
 
@@ -400,6 +402,13 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   return load;
 }
 
+double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall) const {
+  const Particles& p = world.particles;
+  if (is_wall) return wall_results_.delta[k] / (2.0 * p.radius[world.wall_contacts[k].i]);
+  const Contact& c = world.pair_contacts[k];
+  return pair_results_.delta[k] / (2.0 * std::min(p.radius[c.i], p.radius[c.j]));
+}
+
 void ForceField::report_overlap(const World& world) const {
   const Particles& p = world.particles;
   const Contact* worst = nullptr;
@@ -408,7 +417,7 @@ void ForceField::report_overlap(const World& world) const {
   auto scan = [&](const std::vector<Contact>& contacts, const Results& results, bool is_wall) {
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       const Vec3& f = results.force_i[k];
-      const double r = std::isfinite(f.x + f.y + f.z) ? results.overlap_ratio[k] : INFINITY;
+      const double r = std::isfinite(f.x + f.y + f.z) ? overlap_ratio(world, k, is_wall) : INFINITY;
       if (contacts[k].touching && !(r <= ratio)) ratio = r, worst = &contacts[k], wall = is_wall;
     }
   };

@@ -40,15 +40,16 @@ class ForceField {
 
  private:
   // Per-contact results, one array per quantity (zeros for pairs that do not touch);
-  // overlap_ratio > 0 marks a touching contact. The torques are not stored: each particle
-  // makes its own from n x F_t and its lever arm R - delta/2 (72 bytes a contact, not 104).
+  // delta > 0 marks a touching contact. The torques and overlap ratios are not stored: each
+  // particle makes them from n x F_t, the overlap and its own radius (64 bytes a contact,
+  // not 104).
   // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
   struct Results {
     std::vector<Vec3> force_i, n_x_ft, shift_i, shift_j;
-    std::vector<double> delta, energy, overlap_ratio;
+    std::vector<double> delta, energy;
     void resize(std::size_t n, bool shifts);
-    void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e, double ratio) {
-      force_i[k] = f, n_x_ft[k] = n_x_f_t, delta[k] = overlap, energy[k] = e, overlap_ratio[k] = ratio;
+    void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e) {
+      force_i[k] = f, n_x_ft[k] = n_x_f_t, delta[k] = overlap, energy[k] = e;
     }
     // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
     Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * delta[k]) * n_x_ft[k]; }
@@ -76,6 +77,8 @@ class ForceField {
   void evaluate_walls(World& world);
   void index_contacts(const World& world);
   void accumulate(World& world);
+  // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
+  double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;
   [[noreturn]] void report_overlap(const World& world) const;
 };
 
