@@ -15,8 +15,7 @@ equal pair at 1 m/s, rounded down, the same for every ratio.
 
 Each ratio runs --steps steps with [search] method = "cell" and "multilevel" (automatic levels),
 one thread, alternating, --repeat times; the median of run.json's particle_steps_per_second
-(grains x steps / wall time of the time loop) is kept. One untimed warm-up run per ratio ends
-with a checkpoint, from which the number of neighbour-list builds is read. Writes
+(grains x steps / time of the stepping loop) is kept, and run.json's list_builds. Writes
 OUT/size_ratio.{csv,md,png}. Needs Debian's /usr/bin/python3 (numpy, matplotlib).
 
   /usr/bin/python3 bench/size_ratio_sweep.py [--tsubu build/tsubu] [--particles 20000] [--steps 1000]
@@ -27,13 +26,11 @@ import argparse
 import base64
 import csv
 import datetime
-import glob
 import json
 import math
 import os
 import re
 import statistics
-import struct
 import subprocess
 import sys
 import tempfile
@@ -130,24 +127,6 @@ def read_vtu(path):
     return array("position").reshape(-1, 3), array("diameter")
 
 
-def builds(checkpoint):
-    """Neighbour-list builds recorded in a checkpoint (docs/reliability.md, format version 1)."""
-    with open(checkpoint, "rb") as f:
-        data = f.read()
-    pos = 32  # header
-
-    def skip_strings(count):
-        nonlocal pos
-        for _ in range(count):
-            pos += 8 + struct.unpack_from("<Q", data, pos)[0]
-    skip_strings(3)  # engine version, scenario path, scenario text
-    overrides = struct.unpack_from("<Q", data, pos)[0]
-    pos += 8
-    skip_strings(overrides)
-    pos += 8 + 8 + 8 + 8 + 8  # hash, step, time, dt, contact evaluations
-    return struct.unpack_from("<Q", data, pos)[0]
-
-
 def prepare(binary, ratio, args, dt, work):
     """Place the bed of one ratio, give it random velocities; return the path of the timed scenario."""
     side = box_side(ratio, args.particles)
@@ -237,12 +216,12 @@ def write_results(rows, args, dt, out):
         "mu 0.5, E 5e7 Pa, nu 0.3, density 2500, "
         f"gravity; dt = {dt:g} s (t_c/20 of two d_min grains at 1 m/s, rounded down) for every ratio; skin a "
         f"tenth of d_min; {args.steps} steps.", "",
-        "Time: run.json's particle_steps_per_second, grains x steps / wall time of the time loop. The loop "
-        "includes the first force evaluation (the first neighbour-list build) and two series.csv rows; "
+        "Time: run.json's particle_steps_per_second, grains x steps / time of the stepping loop (without "
+        "set-up and the first force evaluation, like the peers' Loop time; two series.csv rows are in it); "
         "loading, placing and reading the particles and the final analyses are outside it. Contacts: "
         "touching contacts (pairs and floor) per grain, averaged over the steps (run.json contact_evaluations "
-        "/ (N steps)). Builds: neighbour-list builds in the run, the first included (from a checkpoint of an "
-        "untimed warm-up run; the same for both methods, which give the same bits).", "",
+        "/ (N steps)). Builds: neighbour-list builds in the run, the first included (run.json list_builds; the "
+        "same for both methods, which give the same bits).", "",
         "| size ratio | particles | cell ns/particle-step | multi-level ns/particle-step | cell / ratio 1 | "
         "multi-level / ratio 1 | contacts/particle | list builds |",
         "|---|---|---|---|---|---|---|---|"]
@@ -275,28 +254,25 @@ def main():
     with tempfile.TemporaryDirectory(prefix="tsubu-size-ratio-") as work:
         beds = {}
         for ratio in RATIOS:
-            timed = prepare(args.tsubu, ratio, args, dt, work)
-            # Warm-up, untimed: a final checkpoint holds the count of list builds.
-            warm = os.path.join(work, f"warm-{ratio}")
-            report = run(args.tsubu, timed, "multilevel", warm, ["--set", "output.checkpoint_every_seconds=1e9"])
-            beds[ratio] = (timed, report, builds(max(glob.glob(os.path.join(warm, "checkpoint", "step_*.tsbk")))))
-            print(f"ratio {ratio}: {report['particles']} grains, {beds[ratio][2]} list builds", file=sys.stderr)
+            beds[ratio] = prepare(args.tsubu, ratio, args, dt, work)
+        reports = {}
         for rep in range(args.repeat):
             for i, ratio in enumerate(RATIOS):
                 order = METHODS if (rep + i) % 2 == 0 else METHODS[::-1]
                 for method in order:
-                    report = run(args.tsubu, beds[ratio][0], method, os.path.join(work, "run"))
+                    report = run(args.tsubu, beds[ratio], method, os.path.join(work, "run"))
                     samples[(ratio, method)].append(1e9 / report["particle_steps_per_second"])
+                    reports[ratio] = report
                 print(f"round {rep + 1}, ratio {ratio}: " + ", ".join(
                     f"{m} {samples[(ratio, m)][-1]:.0f} ns" for m in METHODS), file=sys.stderr)
     rows = []
     for ratio in RATIOS:
-        _, report, n_builds = beds[ratio]
+        report = reports[ratio]
         n = report["particles"]
         rows.append({"ratio": ratio, "particles": n, "steps": report["steps"], "dt": report["dt"],
                      **{f"ns_{m}": round(statistics.median(samples[(ratio, m)]), 1) for m in METHODS},
                      "contacts_per_particle": round(report["contact_evaluations"] / (n * report["steps"]), 4),
-                     "list_builds": n_builds,
+                     "list_builds": report["list_builds"],
                      **{f"ns_{m}_runs": " ".join(f"{t:.1f}" for t in samples[(ratio, m)]) for m in METHODS}})
     write_results(rows, args, dt, args.out)
 
