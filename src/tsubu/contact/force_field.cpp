@@ -212,24 +212,32 @@ void ForceField::evaluate_pairs(World& world) {
 void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end) {
   const Particles& p = world.particles;
   auto& contacts = world.pair_contacts;
-  // Scalar pass: which listed pairs touch now; their geometry and history go into lanes.
-  Lanes<kBlock> lanes;
+  // Scalar pass, without a branch on touching (it is unpredictable): every entry's result is
+  // cleared and its history kept only if it touches; the touching ones are listed.
   std::uint32_t touching[kBlock];
+  Vec3 separation[kBlock];
   std::size_t m = 0;
   for (std::size_t k = begin; k < end; ++k) {
     Contact& c = contacts[k];
     const Vec3 d = world.domain.separation(p.position[c.i], p.position[c.j]);
     const double reach = p.radius[c.i] + p.radius[c.j];
     c.touching = norm2(d) < reach * reach;
-    if (c.touching) {
-      touching[m] = static_cast<std::uint32_t>(k);
-      lanes.set_geometry(m, pair_geometry(p, c.i, c.j, d));
-      lanes.set_history(m++, c.history);
-      continue;
-    }
-    c.history = {};
+    const double keep = c.touching;
+    c.history.xi *= keep;
+    c.history.normal[0] *= keep, c.history.normal[1] *= keep;
     pair_results_.set(k, {}, {}, 0, 0);
-    if (shifts_) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
+    touching[m] = static_cast<std::uint32_t>(k);
+    separation[m] = d;
+    m += c.touching;
+  }
+  if (shifts_)
+    for (std::size_t k = begin; k < end; ++k) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
+  // The touching pairs' geometry and history go into lanes.
+  Lanes<kBlock> lanes;
+  for (std::size_t b = 0; b < m; ++b) {
+    const Contact& c = contacts[touching[b]];
+    lanes.set_geometry(b, pair_geometry(p, c.i, c.j, separation[b]));
+    lanes.set_history(b, c.history);
   }
   const double dt = world.dt;
   if (world.laws.uniform()) {
