@@ -159,9 +159,10 @@ void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = world.skin;
   if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
-  // Peak memory: the per-contact results are recomputed after a build, so they are freed
-  // before it, and the old lists and the search's candidates after it.
+  // Peak memory: the per-contact results and the contact index are remade after a build, so
+  // they are freed before it, and the old lists and the search's candidates after it.
   pair_results_ = {}, wall_results_ = {};
+  first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {};
   grid_.configure(world.search);
   std::vector<Pair> candidates;
   grid_.find_pairs(p, world.domain, skin_, candidates);
