@@ -116,10 +116,7 @@ void first_contacts(const std::vector<Contact>& contacts, std::size_t n, std::ve
 }  // namespace
 
 void ForceField::Results::resize(std::size_t n, bool shifts) {
-  force_i.resize(n);
-  n_x_ft.resize(n);
-  delta.resize(n);
-  energy.resize(n);
+  entry.resize(n);
   shift_i.assign(shifts ? n : 0, Vec3{});
   shift_j.assign(shifts ? n : 0, Vec3{});
 }
@@ -352,25 +349,25 @@ void ForceField::accumulate(World& world) {
       double deepest = 0;
       for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) {  // i is the pair's j
         const std::uint32_t k = second_index_[s];
-        force -= pr.force_i[k];
+        force -= pr.entry[k].force_i;
         torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_j[k];
-        count += pr.delta[k] > 0;
-        deepest = std::max(deepest, pr.delta[k]);
+        count += pr.entry[k].delta > 0;
+        deepest = std::max(deepest, pr.entry[k].delta);
       }
       for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) {  // i is the pair's i
-        force += pr.force_i[k];
+        force += pr.entry[k].force_i;
         torque += pr.torque(k, p.radius[i]);
         if (shifts_) shift += pr.shift_i[k];
-        own += pr.delta[k] > 0;
-        deepest = std::max(deepest, pr.delta[k]);
+        own += pr.entry[k].delta > 0;
+        deepest = std::max(deepest, pr.entry[k].delta);
       }
       for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
-        force += wr.force_i[k];
+        force += wr.entry[k].force_i;
         torque += wr.torque(k, p.radius[i]);
         if (shifts_) shift += wr.shift_i[k];
-        own += wr.delta[k] > 0;
-        deepest = std::max(deepest, wr.delta[k]);
+        own += wr.entry[k].delta > 0;
+        deepest = std::max(deepest, wr.entry[k].delta);
       }
       local_worst = std::max(local_worst, deepest / (2.0 * p.radius[i]));
       local_touching += static_cast<std::uint64_t>(own);  // each pair once, from its first particle
@@ -394,7 +391,7 @@ ContactTotals ForceField::totals(const World& world) const {
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       if (!contacts[k].touching) continue;
       ++totals.contacts;
-      totals.elastic_energy += results.energy[k];
+      totals.elastic_energy += results.entry[k].energy;
       totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, overlap_ratio(world, k, is_wall));
     }
   };
@@ -407,15 +404,15 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   double load = 0;
   const auto& contacts = world.wall_contacts;
   for (std::size_t k = 0; k < contacts.size(); ++k)
-    if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.force_i[k], world.walls[wall].normal);
+    if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
   return load;
 }
 
 double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall) const {
   const Particles& p = world.particles;
-  if (is_wall) return wall_results_.delta[k] / (2.0 * p.radius[world.wall_contacts[k].i]);
+  if (is_wall) return wall_results_.entry[k].delta / (2.0 * p.radius[world.wall_contacts[k].i]);
   const Contact& c = world.pair_contacts[k];
-  return pair_results_.delta[k] / (2.0 * std::min(p.radius[c.i], p.radius[c.j]));
+  return pair_results_.entry[k].delta / (2.0 * std::min(p.radius[c.i], p.radius[c.j]));
 }
 
 void ForceField::report_overlap(const World& world) const {
@@ -425,7 +422,7 @@ void ForceField::report_overlap(const World& world) const {
   double ratio = -1;
   auto scan = [&](const std::vector<Contact>& contacts, const Results& results, bool is_wall) {
     for (std::size_t k = 0; k < contacts.size(); ++k) {
-      const Vec3& f = results.force_i[k];
+      const Vec3& f = results.entry[k].force_i;
       const double r = std::isfinite(f.x + f.y + f.z) ? overlap_ratio(world, k, is_wall) : INFINITY;
       if (contacts[k].touching && !(r <= ratio)) ratio = r, worst = &contacts[k], wall = is_wall;
     }

@@ -45,14 +45,16 @@ class ForceField {
   // not 104).
   // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
   struct Results {
-    std::vector<Vec3> force_i, n_x_ft, shift_i, shift_j;
-    std::vector<double> delta, energy;
+    struct Entry {  // together: the gather reads a partner's contact from one place
+      Vec3 force_i, n_x_ft;
+      double delta = 0, energy = 0;
+    };
+    std::vector<Entry> entry;
+    std::vector<Vec3> shift_i, shift_j;
     void resize(std::size_t n, bool shifts);
-    void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e) {
-      force_i[k] = f, n_x_ft[k] = n_x_f_t, delta[k] = overlap, energy[k] = e;
-    }
+    void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e) { entry[k] = {f, n_x_f_t, overlap, e}; }
     // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
-    Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * delta[k]) * n_x_ft[k]; }
+    Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * entry[k].delta) * entry[k].n_x_ft; }
   };
   PairSearch grid_;
   Results pair_results_, wall_results_;
