@@ -106,10 +106,12 @@ struct Lanes {
   }
 };
 
-// start[i] = first index of `contacts` (sorted by i) whose particle is at least i.
-void first_contacts(const std::vector<Contact>& contacts, std::size_t n, std::vector<std::uint32_t>& start) {
+// start[i] = how many contacts have particle(c) < i, for i = 0..n (for a list sorted by
+// particle(c), the first of particle i's contacts).
+template <class Particle>
+void count_starts(const std::vector<Contact>& contacts, std::size_t n, Particle particle, std::vector<std::uint32_t>& start) {
   start.assign(n + 1, 0);
-  for (const Contact& c : contacts) ++start[c.i + 1];
+  for (const Contact& c : contacts) ++start[particle(c) + 1];
   for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
 }
 
@@ -117,8 +119,8 @@ void first_contacts(const std::vector<Contact>& contacts, std::size_t n, std::ve
 
 void ForceField::Results::resize(std::size_t n, bool shifts) {
   entry.resize(n);
-  shift_i.assign(shifts ? n : 0, Vec3{});
-  shift_j.assign(shifts ? n : 0, Vec3{});
+  shift_i.resize(shifts ? n : 0);  // cleared by the evaluations, entry by entry
+  shift_j.resize(shifts ? n : 0);
 }
 
 void ForceField::compute(World& world) {
@@ -200,14 +202,15 @@ void ForceField::evaluate_pairs(World& world) {
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
   const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
   const int threads = threads_for(contacts.size());
+  const bool uniform = world.laws.uniform();
   for_each_thread(threads, [&](int t) {
     const auto [first, last] = static_range(blocks, t, threads);
     for (std::size_t block = first; block < last; ++block)
-      evaluate_pair_block(world, block * kBlock, std::min((block + 1) * kBlock, contacts.size()));
+      evaluate_pair_block(world, block * kBlock, std::min((block + 1) * kBlock, contacts.size()), uniform);
   });
 }
 
-void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end) {
+void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform) {
   const Particles& p = world.particles;
   auto& contacts = world.pair_contacts;
   // Scalar pass, without a branch on touching (it is unpredictable): every entry's result is
@@ -238,7 +241,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
     lanes.set_history(b, c.history);
   }
   const double dt = world.dt;
-  if (world.laws.uniform()) {
+  if (uniform) {
     std::visit([&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, dt, normal, tangential); },
                world.laws.laws.front().normal, world.laws.laws.front().tangential);
   } else {
@@ -300,21 +303,20 @@ void ForceField::evaluate_walls(World& world) {
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
     wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy);
-    if constexpr (corrects_position_v<std::decay_t<decltype(normal)>>) wall_results_.shift_i[k] = f.gap_shift * g.n;
+    if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
   });
 }
 
 void ForceField::index_contacts(const World& world) {
   const std::size_t n = world.particles.size();
   const auto& contacts = world.pair_contacts;
-  first_contacts(contacts, n, first_start_);
-  second_start_.assign(n + 1, 0);
-  for (const Contact& c : contacts) ++second_start_[c.j + 1];
-  for (std::size_t i = 0; i < n; ++i) second_start_[i + 1] += second_start_[i];
+  auto first = [](const Contact& c) { return c.i; };
+  count_starts(contacts, n, first, first_start_);
+  count_starts(contacts, n, [](const Contact& c) { return c.j; }, second_start_);
   second_index_.resize(contacts.size());
   std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
   for (std::uint32_t k = 0; k < contacts.size(); ++k) second_index_[fill[contacts[k].j]++] = k;
-  first_contacts(world.wall_contacts, n, wall_start_);
+  count_starts(world.wall_contacts, n, first, wall_start_);
 }
 
 void ForceField::accumulate(World& world) {

@@ -75,7 +75,8 @@ class ForceField {
   // Pair contacts go in blocks of kBlock list entries (see evaluate_pair_block).
   static constexpr std::size_t kBlock = 32;
   void evaluate_pairs(World& world);
-  void evaluate_pair_block(World& world, std::size_t begin, std::size_t end);
+  // uniform: every material pair has the same model types (LawTable::uniform()).
+  void evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform);
   void evaluate_walls(World& world);
   void index_contacts(const World& world);
   void accumulate(World& world);

@@ -26,12 +26,12 @@ struct Particles {
 
   std::size_t size() const { return radius.size(); }
 
-  // f(array) for every per-particle array, to move or copy particles with all they carry.
+  // f(array) for every per-particle array, always in this order (the checkpoint format's),
+  // to move, copy or store particles with all they carry.
   template <class F>
-  void for_each_array(F&& f) {
-    f(id), f(material), f(radius), f(mass), f(translational_mass), f(inertia);
-    f(position), f(velocity), f(omega), f(force), f(torque), f(contact_count);
-  }
+  void for_each_array(F&& f) { each_array(*this, f); }
+  template <class F>
+  void for_each_array(F&& f) const { each_array(*this, f); }
 
   void add(std::int64_t pid, int mat, double diameter, double density, const Vec3& x, const Vec3& v) {
     const double r = 0.5 * diameter;
@@ -48,6 +48,13 @@ struct Particles {
     force.push_back({});
     torque.push_back({});
     contact_count.push_back(0);
+  }
+
+ private:
+  template <class Self, class F>
+  static void each_array(Self& p, F& f) {
+    f(p.id), f(p.material), f(p.radius), f(p.mass), f(p.translational_mass), f(p.inertia);
+    f(p.position), f(p.velocity), f(p.omega), f(p.force), f(p.torque), f(p.contact_count);
   }
 };
 
