@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 
@@ -51,22 +52,10 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
   }
 }
 
-// What the laws see of touching pair (i, j) with separation d = x_i - x_j.
+// What the laws see of touching pair (i, j) with separation d = x_i - x_j, now.
 ContactGeometry pair_geometry(const Particles& p, std::size_t i, std::size_t j, const Vec3& d) {
-  const double ri = p.radius[i], rj = p.radius[j];
-  const double dist = std::sqrt(norm2(d));
-  ContactGeometry g;
-  g.n = d / dist;
-  g.delta = ri + rj - dist;
-  const double arm_i = ri - 0.5 * g.delta, arm_j = rj - 0.5 * g.delta;
-  const Vec3 v_rel = p.velocity[i] - p.velocity[j] + cross(p.omega[i], -arm_i * g.n) - cross(p.omega[j], arm_j * g.n);
-  g.v_n = dot(v_rel, g.n);
-  g.v_t = v_rel - g.v_n * g.n;
-  g.r_eff = ri * rj / (ri + rj);
-  g.m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-  g.d_mean = ri + rj;
-  g.d_small = 2.0 * std::min(ri, rj);
-  return g;
+  return pair_geometry<double>(p.radius[i], p.radius[j], p.mass[i], p.mass[j], d, p.velocity[i], p.velocity[j],
+                               p.omega[i], p.omega[j]);
 }
 
 // A block of touching pairs held as one array per scalar ("lanes"), so that the loop over
@@ -126,14 +115,17 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
 void ForceField::compute(World& world) {
   shifts_ = world.laws.corrects_positions();
   const std::int64_t sort_every = world.search.sort_every;
-  if (sort_every > 0 && world.step % sort_every == 0) {
-    sort_spatially(world);
-    built_at_.clear();  // the lists are renumbered: rebuild them now
-  }
+  if (sort_every > 0 && world.step % sort_every == 0) sort(world);
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
   accumulate(world);
+}
+
+std::vector<std::uint32_t> ForceField::sort(World& world) {
+  std::vector<std::uint32_t> order = sort_spatially(world);
+  built_at_.clear();  // the lists are renumbered: rebuild them now
+  return order;
 }
 
 bool ForceField::needs_rebuild(const World& world) const {
@@ -158,37 +150,53 @@ void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = world.skin;
   if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
-  // Peak memory: the per-contact results and the contact index are remade after a build, so
-  // they are freed before it, and the old lists and the search's candidates after it.
-  pair_results_ = {}, wall_results_ = {};
-  first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {};
-  grid_.configure(world.search);
-  std::vector<Pair> candidates;
-  grid_.find_pairs(p, world.domain, skin_, candidates);
-  std::vector<Contact> next;
-  carry_history(candidates, world.pair_contacts, next);
-  world.pair_contacts.swap(next);
-  find_wall_contacts(world, candidates);
-  carry_history(candidates, world.wall_contacts, next);
-  world.wall_contacts.swap(next);
+  build_lists(world, p, skin_);
   built_at_ = p.position;
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
+}
+
+void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach) {
+  const Particles& p = world.particles;
+  skin_ = world.skin;
+  if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  Particles probe;
+  probe.position = positions;
+  probe.radius.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) probe.radius[i] = p.radius[i] + reach[i];
+  build_lists(world, probe, skin_);
+  built_at_.clear();  // compute() would rebuild: block steps decide when lists are stale
+}
+
+void ForceField::build_lists(World& world, const Particles& probe, double margin) {
+  // Peak memory: the per-contact results and the contact index are remade after a build, so
+  // they are freed before it, and the old lists and the search's candidates after it.
+  pair_results_ = {}, wall_results_ = {};
+  pair_rates_ = {}, wall_rates_ = {};
+  first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {};
+  grid_.configure(world.search);
+  std::vector<Pair> candidates;
+  grid_.find_pairs(probe, world.domain, margin, candidates);
+  std::vector<Contact> next;
+  carry_history(candidates, world.pair_contacts, next);
+  world.pair_contacts.swap(next);
+  find_wall_contacts(world, probe, margin, candidates);
+  carry_history(candidates, world.wall_contacts, next);
+  world.wall_contacts.swap(next);
   index_contacts(world);
   ++rebuilds_;
 }
 
-void ForceField::find_wall_contacts(const World& world, std::vector<Pair>& out) {
+void ForceField::find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out) {
   out.clear();
   if (world.walls.empty()) return;
-  const Particles& p = world.particles;
   std::vector<std::vector<Pair>> wall_hits;
-  for_each_range(p.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
+  for_each_range(probe.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Centres in front of the plane (see evaluate_walls) and within the skin of touching.
-        const double dist = world.walls[w].distance(p.position[i]);
-        if (dist < p.radius[i] + skin_ && dist > -skin_)
+        // Centres in front of the plane (see evaluate_walls) and within the margin of touching.
+        const double dist = world.walls[w].distance(probe.position[i]);
+        if (dist < probe.radius[i] + margin && dist > -margin)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
   });
@@ -289,17 +297,7 @@ void ForceField::evaluate_walls(World& world) {
       if (shifts_) wall_results_.shift_i[k] = {};
       return;
     }
-    ContactGeometry g;
-    g.n = wall.normal;
-    g.delta = ri - dist;
-    const double arm_i = ri - 0.5 * g.delta;
-    const Vec3 v_rel = p.velocity[i] - wall.velocity + cross(p.omega[i], -arm_i * g.n);
-    g.v_n = dot(v_rel, g.n);
-    g.v_t = v_rel - g.v_n * g.n;
-    g.r_eff = ri;
-    g.m_eff = p.mass[i];
-    g.d_mean = 2.0 * ri;
-    g.d_small = 2.0 * ri;
+    ContactGeometry g = wall_geometry<double>(ri, p.mass[i], wall.normal, dist, p.velocity[i] - wall.velocity, p.omega[i]);
     g.dt = dt;
     const ContactForce f = evaluate(normal, tangential, g, c.history);
     wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy);
@@ -349,28 +347,15 @@ void ForceField::accumulate(World& world) {
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.
       int count = 0, own = 0;
       double deepest = 0;
-      for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) {  // i is the pair's j
-        const std::uint32_t k = second_index_[s];
-        force -= pr.entry[k].force_i;
-        torque += pr.torque(k, p.radius[i]);
-        if (shifts_) shift += pr.shift_j[k];
-        count += pr.entry[k].delta > 0;
-        deepest = std::max(deepest, pr.entry[k].delta);
-      }
-      for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) {  // i is the pair's i
-        force += pr.entry[k].force_i;
-        torque += pr.torque(k, p.radius[i]);
-        if (shifts_) shift += pr.shift_i[k];
-        own += pr.entry[k].delta > 0;
-        deepest = std::max(deepest, pr.entry[k].delta);
-      }
-      for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) {
-        force += wr.entry[k].force_i;
-        torque += wr.torque(k, p.radius[i]);
-        if (shifts_) shift += wr.shift_i[k];
-        own += wr.entry[k].delta > 0;
-        deepest = std::max(deepest, wr.entry[k].delta);
-      }
+      for_each_contact_of(i, [&](std::uint32_t k, int side) {
+        const Results& r = side == 0 ? wr : pr;
+        if (side < 0) force -= r.entry[k].force_i;  // i is the pair's j
+        else force += r.entry[k].force_i;
+        torque += r.torque(k, p.radius[i]);
+        if (shifts_) shift += side < 0 ? r.shift_j[k] : r.shift_i[k];
+        (side < 0 ? count : own) += r.entry[k].delta > 0;
+        deepest = std::max(deepest, r.entry[k].delta);
+      });
       local_worst = std::max(local_worst, deepest / (2.0 * p.radius[i]));
       local_touching += static_cast<std::uint64_t>(own);  // each pair once, from its first particle
       if (!std::isfinite(force.x + force.y + force.z)) local_worst = INFINITY;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "tsubu/integrate/hermite_state.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/world.hpp"
 
@@ -16,6 +17,24 @@ struct ContactTotals {
   double max_overlap_ratio = 0;     // largest overlap / smaller diameter
 };
 
+// Block steps: how an evaluation bounds the next step of each particle from its contacts
+// (docs/integrators.md, step rules). A touching contact allows kappa_c times the shorter
+// of its collision time at the current approach speed (Eq. 20, speed floored at u_floor)
+// and half a period of its current linear-equivalent stiffness; an approaching listed pair
+// allows eta_gap times the time to close its gap, but never less than its contact step.
+struct ContactStepRules {
+  double kappa_c = 0.04;
+  double eta_gap = 0.5;
+  double u_floor = 1e-3;  // m/s
+};
+
+// What a block-step evaluation returns beside forces and torques, per particle (only the
+// active particles' entries are written).
+struct EvaluationRates {
+  std::vector<Vec3> force, torque;  // dF/dt (N/s) and dT/dt (N m/s)
+  std::vector<double> step_bound;   // s, the contacts' limit on the next step
+};
+
 // Neighbour lists (pairs and walls within `skin` of touching) are rebuilt, carrying every
 // history over, once some particle has moved more than skin/2 since the last build; in
 // between, each step only evaluates the listed pairs.
@@ -25,6 +44,28 @@ class ForceField {
   // world.particles. Throws NumericalError when an overlap exceeds world.overlap_limit or
   // a force is not finite.
   void compute(World& world);
+
+  // Block steps (the same lists, laws and gather): evaluates the active particles at the
+  // predictor's time from the predicted state of every particle they touch, with the exact
+  // rates of every force and torque. A contact is evaluated once, from its first active
+  // particle; its history advances by the time since the later of its particles' last
+  // evaluations (their shared step). The lists are the stepper's to rebuild (rebuild_at).
+  void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
+                      const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out);
+  // Block steps: new lists from the given positions, each particle i listed with everything
+  // within skin + reach[i] (+ reach of the partner) of touching; valid while each particle
+  // stays within reach[i] + skin/2 of its position here.
+  void rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach);
+  // Renumbers the particles along a space-filling curve (sort_spatially) and returns
+  // order[new] = old; the lists are rebuilt at the next evaluation.
+  std::vector<std::uint32_t> sort(World& world);
+  // f(partner, contact) for every listed pair of particle i (as of the last build).
+  template <class F>
+  void for_each_pair_of(const World& world, std::size_t i, F&& f) const {
+    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) f(world.pair_contacts[second_index_[s]].i, second_index_[s]);
+    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(world.pair_contacts[k].j, k);
+  }
+  double skin() const { return skin_; }
 
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).
@@ -56,8 +97,15 @@ class ForceField {
     // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
     Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * entry[k].delta) * entry[k].n_x_ft; }
   };
+  // Rates of the block-step evaluations, per contact (the results' companions).
+  struct Rates {
+    Vec3 force_i, n_x_ft;  // d/dt of Results::Entry's force_i and n_x_ft
+    double delta = 0;      // d(overlap)/dt
+    double step_bound = 0; // s, see ContactStepRules
+  };
   PairSearch grid_;
   Results pair_results_, wall_results_;
+  std::vector<Rates> pair_rates_, wall_rates_;
   std::vector<Vec3> built_at_;  // positions at the last build
   bool shifts_ = false;         // some law corrects positions
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
@@ -71,7 +119,16 @@ class ForceField {
 
   bool needs_rebuild(const World& world) const;
   void rebuild(World& world);
-  void find_wall_contacts(const World& world, std::vector<Pair>& out);
+  // The lists from `probe` (positions and radii, grown by each particle's reach) and the
+  // margin; histories carried over.
+  void build_lists(World& world, const Particles& probe, double margin);
+  void find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out);
+  template <class Normal, class Tangential>
+  void evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
+                           const Normal& normal, const Tangential& tangential);
+  template <class Normal, class Tangential>
+  void evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
+                           const Normal& normal, const Tangential& tangential);
   // Pair contacts go in blocks of kBlock list entries (see evaluate_pair_block).
   static constexpr std::size_t kBlock = 32;
   void evaluate_pairs(World& world);
@@ -79,6 +136,14 @@ class ForceField {
   void evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform);
   void evaluate_walls(World& world);
   void index_contacts(const World& world);
+  // visit(k, side) for particle i's contacts in the gather's order: pairs where i is second
+  // (side -1), pairs where it is first (+1), walls (0).
+  template <class Visit>
+  void for_each_contact_of(std::size_t i, Visit&& visit) const {
+    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) visit(second_index_[s], -1);
+    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
+    for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);
+  }
   void accumulate(World& world);
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;

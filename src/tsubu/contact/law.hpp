@@ -38,6 +38,29 @@ template <class Normal, class Tangential>
   return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift};
 }
 
+// Models whose force is a smooth function of the kinematics, written on the number type:
+// they give exact rates (Hermite integration). Models P, F and HH are defined on fixed steps.
+template <class Normal>
+constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry& g, ContactHistory& h) { n.force(g, h); };
+
+// The same law run on Duals: the force on particle i and its tangential part, each with its
+// time derivative along the kinematics that `g` carries. The history is advanced as by
+// evaluate().
+struct ContactForceRate {
+  DualVec3 total, tangential;
+  double energy = 0;
+  double stiffness = 0;  // linear-equivalent normal stiffness now, N/m
+};
+template <class Normal, class Tangential>
+inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangential& tangential,
+                                            const DualContactGeometry& g, ContactHistory& h) {
+  const BasicNormalForce<Dual> fn = normal.force(g, h);
+  DualVec3 xi(h.xi);
+  const DualVec3 ft = tangential.force(g, fn, xi);
+  h.xi = value(xi);
+  return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v};
+}
+
 // What a scenario says about a material pair, before the materials are known.
 struct ContactSpec {
   std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | hooke_hysteresis | energy_conserving[_2005]

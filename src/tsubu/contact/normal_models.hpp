@@ -21,11 +21,23 @@ struct LinearDashpot {
   double k_n = 0;   // N/m
   double beta = 0;  // damping ratio from the restitution
 
-  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  // Duration of a collision (half a period of the undamped spring), s; any impact speed.
+  double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
+
+  template <class G>
+  [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
+    using T = typename G::Number;
     const double eta = 2.0 * beta * std::sqrt(g.m_eff * k_n);
-    return {k_n * g.delta - eta * g.v_n, k_n, eta, 0.5 * k_n * g.delta * g.delta};
+    return {T(k_n) * g.delta - T(eta) * g.v_n, T(k_n), T(eta), T(0.5 * k_n) * g.delta * g.delta};
   }
 };
+
+// Duration of a Hertz collision at impact speed u (Sota & Watanabe Eq. 20):
+// t_coll = 2.94 (m*^2 / (K^2 u))^{1/5}, K = 4/3 E* sqrt(R*).
+inline double hertz_collision_time(double e_star, double m_eff, double r_eff, double u) {
+  const double K = (4.0 / 3.0) * e_star * std::sqrt(r_eff);
+  return 2.94 * std::pow(m_eff * m_eff / (K * K * u), 0.2);
+}
 
 // Model T, Hertz with Tsuji damping (Tsuji, Tanaka & Ishida 1992):
 // F_n = K delta^{3/2} - alpha sqrt(m* K) delta^{1/4} v_n, K = 4/3 E* sqrt(R*).
@@ -35,14 +47,18 @@ struct HertzTsuji {
   double alpha = 0;   // alpha(e) = sqrt(5) |ln e| / sqrt(ln^2 e + pi^2)
 
   static double alpha_of(double e) { return std::sqrt(5.0) * damping_ratio(e); }
+  double collision_time(double m_eff, double r_eff, double u) const { return hertz_collision_time(e_star, m_eff, r_eff, u); }
 
-  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  template <class G>
+  [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
+    using T = typename G::Number;
+    using std::sqrt;
     const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
-    const double root_delta = std::sqrt(g.delta);
-    const double f_el = K * g.delta * root_delta;
-    const double eta = alpha * std::sqrt(g.m_eff * K * root_delta);  // delta^{1/4} inside the root
+    const T root_delta = sqrt(g.delta);
+    const T f_el = T(K) * g.delta * root_delta;
+    const T eta = T(alpha) * sqrt(T(g.m_eff * K) * root_delta);  // delta^{1/4} inside the root
     // Linear-equivalent stiffness dF/ddelta = 3/2 K delta^{1/2}.
-    return {f_el - eta * g.v_n, 1.5 * K * root_delta, eta, 0.4 * f_el * g.delta};
+    return {f_el - eta * g.v_n, T(1.5 * K) * root_delta, eta, T(0.4) * f_el * g.delta};
   }
 };
 
@@ -52,13 +68,17 @@ struct HertzSediment {
   static constexpr const char* name = "hertz_sediment (H)";
   double e_star = 0;  // Pa
   double alpha = 0;   // paper Table 1: 0.2
+  double collision_time(double m_eff, double r_eff, double u) const { return hertz_collision_time(e_star, m_eff, r_eff, u); }
 
-  [[gnu::always_inline]] NormalForce force(const ContactGeometry& g, ContactHistory&) const {
+  template <class G>
+  [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
+    using T = typename G::Number;
+    using std::sqrt;
     const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
-    const double root_delta = std::sqrt(g.delta);
-    const double f_el = K * g.delta * root_delta;
+    const T root_delta = sqrt(g.delta);
+    const T f_el = T(K) * g.delta * root_delta;
     const double eta = alpha * std::sqrt(K * g.m_eff * std::sqrt(g.d_mean));
-    return {f_el - eta * g.v_n, 1.5 * K * root_delta, eta, 0.4 * f_el * g.delta};
+    return {f_el - T(eta) * g.v_n, T(1.5 * K) * root_delta, T(eta), T(0.4) * f_el * g.delta};
   }
 };
 

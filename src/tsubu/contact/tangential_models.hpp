@@ -18,9 +18,22 @@ namespace tsubu {
   xi = projected * keep_length + g.v_t * g.dt;
 }
 
+// The same step on a spring with its rate: the value moves as above; the rate is that of
+// the continuous spring at the end of the step, d xi/dt = v_t - n (xi . dn/dt), which keeps
+// it in the turning tangent plane.
+template <void (*Advance)(Vec3&, const ContactGeometry&)>
+inline void advance_with_rate(DualVec3& xi, const DualContactGeometry& g) {
+  Vec3 x = value(xi);
+  const ContactGeometry plain{value(g.n), g.delta.v, g.v_n.v, value(g.v_t), g.r_eff, g.m_eff, g.d_mean, g.d_small, g.dt};
+  Advance(x, plain);
+  xi = DualVec3(x, plain.v_t - dot(x, rate(g.n)) * plain.n);
+}
+inline void advance_spring(DualVec3& xi, const DualContactGeometry& g) { advance_with_rate<advance_spring>(xi, g); }
+
 // Frictionless.
 struct NoFriction {
-  Vec3 force(const ContactGeometry&, const NormalForce&, Vec3&) const { return {}; }
+  template <class G, class F, class V>
+  V force(const G&, const F&, V&) const { return {}; }
 };
 
 // LIGGGHTS' order (tangential history): stretch the spring by v_t dt first, then drop its
@@ -28,6 +41,9 @@ struct NoFriction {
 [[gnu::always_inline]] inline void advance_spring_projected(Vec3& xi, const ContactGeometry& g) {
   xi += g.v_t * g.dt;
   xi -= dot(xi, g.n) * g.n;
+}
+inline void advance_spring_projected(DualVec3& xi, const DualContactGeometry& g) {
+  advance_with_rate<advance_spring_projected>(xi, g);
 }
 
 // Linear spring with Coulomb cap: F_t = -k_t xi - eta_t v_t; while |k_t xi| > mu |F_n| the
@@ -41,19 +57,22 @@ struct LinearCoulomb {
   double mu = 0;               // friction coefficient
   bool projected = false;
 
-  [[gnu::always_inline]] Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+  template <class G, class V = Vector<typename G::Number>>
+  [[gnu::always_inline]] V force(const G& g, const BasicNormalForce<typename G::Number>& fn, V& xi) const {
+    using T = typename G::Number;
+    using std::abs, std::sqrt;
     if (projected) advance_spring_projected(xi, g);
     else advance_spring(xi, g);
-    const double k_t = stiffness_ratio * fn.stiffness;
-    const Vec3 spring = -k_t * xi;
-    const double limit = mu * std::abs(fn.f);
-    const double s2 = norm2(spring);
+    const T k_t = T(stiffness_ratio) * fn.stiffness;
+    const V spring = -k_t * xi;
+    const T limit = T(mu) * abs(fn.f);
+    const T s2 = norm2(spring);
     if (s2 > limit * limit) {
-      const Vec3 f_t = spring * (limit / std::sqrt(s2));
-      xi = f_t * (-1.0 / k_t);
+      const V f_t = spring * (limit / sqrt(s2));
+      xi = f_t * (T(-1.0) / k_t);
       return f_t;
     }
-    return spring - damping_ratio * fn.damping * g.v_t;
+    return spring - T(damping_ratio) * fn.damping * g.v_t;
   }
 };
 
@@ -65,17 +84,20 @@ struct MindlinSlip {
   double sigma = 0;          // Poisson's ratio of the pair
   double damping_ratio = 1;  // eta_t / eta_n
 
-  [[gnu::always_inline]] Vec3 force(const ContactGeometry& g, const NormalForce& fn, Vec3& xi) const {
+  template <class G, class V = Vector<typename G::Number>>
+  [[gnu::always_inline]] V force(const G& g, const BasicNormalForce<typename G::Number>& fn, V& xi) const {
+    using T = typename G::Number;
+    using std::abs, std::sqrt;
     advance_spring(xi, g);
-    const double xi_max = mu * (2.0 - sigma) / (2.0 * (1.0 - sigma)) * g.delta;
-    const double len = norm(xi);
+    const T xi_max = T(mu * (2.0 - sigma) / (2.0 * (1.0 - sigma))) * g.delta;
+    const T len = norm(xi);
     const bool slips = len > xi_max;
-    xi *= slips ? xi_max / len : 1.0;  // the spring never exceeds xi_max
-    const double stretch = slips ? xi_max : len;
-    const double free = 1.0 - stretch / xi_max;
-    const double chi = 1.0 - free * std::sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
-    const double pull = stretch > 0 && xi_max > 0 ? mu * chi * std::abs(fn.f) / stretch : 0.0;
-    return -damping_ratio * fn.damping * g.v_t - pull * xi;
+    xi *= slips ? xi_max / len : T(1.0);  // the spring never exceeds xi_max
+    const T stretch = slips ? xi_max : len;
+    const T free = T(1.0) - stretch / xi_max;
+    const T chi = T(1.0) - free * sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
+    const T pull = stretch > T(0.0) && xi_max > T(0.0) ? T(mu) * chi * abs(fn.f) / stretch : T(0.0);
+    return -(T(damping_ratio) * fn.damping) * g.v_t - pull * xi;
   }
 };
 

@@ -3,55 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tsubu/core/dual.hpp"
+
 namespace tsubu {
 
 namespace {
 
-// A number with its time derivative: evaluating an expression on Duals gives the expression
-// and its exact derivative (forward-mode differentiation, the chain rule applied per operation).
-struct Dual {
-  double v = 0, d = 0;
-  Dual() = default;
-  Dual(double value, double rate = 0) : v(value), d(rate) {}
-};
-
-Dual operator+(Dual a, Dual b) { return {a.v + b.v, a.d + b.d}; }
-Dual operator-(Dual a, Dual b) { return {a.v - b.v, a.d - b.d}; }
-Dual operator*(Dual a, Dual b) { return {a.v * b.v, a.d * b.v + a.v * b.d}; }
-Dual operator/(Dual a, Dual b) { return {a.v / b.v, (a.d * b.v - a.v * b.d) / (b.v * b.v)}; }
-Dual sqrt(Dual a) {
-  const double s = std::sqrt(a.v);
-  return {s, 0.5 * a.d / s};
-}
-Dual pow(Dual a, double p) {
-  const double r = std::pow(a.v, p - 1);
-  return {r * a.v, p * r * a.d};
-}
-Dual tanh(Dual a) {
-  const double t = std::tanh(a.v);
-  return {t, (1 - t * t) * a.d};
-}
-double value(double x) { return x; }
-double value(Dual x) { return x.v; }
 using std::pow;
 using std::sqrt;
 using std::tanh;
-
-template <class T>
-struct V3 {
-  T x, y, z;
-};
-template <class T> V3<T> operator+(const V3<T>& a, const V3<T>& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-template <class T> V3<T> operator*(T s, const V3<T>& a) { return {s * a.x, s * a.y, s * a.z}; }
-template <class T> T dot(const V3<T>& a, const V3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <class T> V3<T> cross(const V3<T>& a, const V3<T>& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
-V3<double> plain(const Vec3& a) { return {a.x, a.y, a.z}; }
-V3<Dual> with_rate(const Vec3& a, const Vec3& rate) { return {{a.x, rate.x}, {a.y, rate.y}, {a.z, rate.z}}; }
-Vec3 values(const V3<double>& a) { return {a.x, a.y, a.z}; }
-Vec3 rates(const V3<Dual>& a) { return {a.x.d, a.y.d, a.z.d}; }
 
 // eta(Re) on the points of the table: piecewise linear, constant outside.
 template <class T>
@@ -79,12 +39,12 @@ T loth(T re, T rr) {
 
 template <class T>
 struct Load {
-  V3<T> force, torque;
+  Vector<T> force, torque;
 };
 
 // The fluid's force (buoyancy, drag, lift) and torque, on double (values) or Dual (rates).
 template <class T>
-Load<T> load(const Fluid& f, double d, const Vec3& g, const V3<T>& u, const V3<T>& w) {
+Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const Vector<T>& w) {
   Load<T> out{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
   if (!f.enabled) return out;
   const double area = M_PI * d * d / 4, volume = M_PI * d * d * d / 6;
@@ -126,7 +86,7 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const V3<T>& u, const V3<T
   if (f.drag)
     out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re) * correction) * u;
   if (value(lift_coefficient) != 0) {
-    const V3<T> c = cross(w, u);
+    const Vector<T> c = cross(w, u);
     const T c2 = dot(c, c);
     if (value(c2) > 0) out.force = out.force + (T(half_rho_s) * lift_coefficient * q2 / sqrt(c2)) * c;
   }
@@ -141,14 +101,14 @@ double Fluid::added_mass_of(double diameter) const {
 }
 
 FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega) {
-  const Load<double> l = load<double>(fluid, d, g, plain(u), plain(omega));
-  return {values(l.force), values(l.torque)};
+  const Load<double> l = load<double>(fluid, d, g, u, omega);
+  return {l.force, l.torque};
 }
 
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
                           const Vec3& alpha) {
-  const Load<Dual> l = load<Dual>(fluid, d, {}, with_rate(u, a), with_rate(omega, alpha));
-  return {rates(l.force), rates(l.torque)};
+  const Load<Dual> l = load<Dual>(fluid, d, {}, DualVec3(u, a), DualVec3(omega, alpha));
+  return {rate(l.force), rate(l.torque)};
 }
 
 double drag_coefficient(double re) { return re_times_cd(re) / re; }

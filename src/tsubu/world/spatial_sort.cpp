@@ -30,10 +30,10 @@ bool by_pair(const Contact& a, const Contact& b) { return a.i != b.i ? a.i < b.i
 
 }  // namespace
 
-void sort_spatially(World& world) {
+std::vector<std::uint32_t> sort_spatially(World& world) {
   Particles& p = world.particles;
   const std::size_t n = p.size();
-  if (n < 2) return;
+  if (n < 2) return std::vector<std::uint32_t>(n, 0);
   const double cell = 2.0 * *std::min_element(p.radius.begin(), p.radius.end());
   constexpr double kMaxCell = (1 << 21) - 1;
   std::vector<std::uint64_t> key(n);
@@ -62,6 +62,7 @@ void sort_spatially(World& world) {
   for (Contact& c : world.wall_contacts) c.i = renumber[c.i];
   std::sort(world.pair_contacts.begin(), world.pair_contacts.end(), by_pair);
   std::sort(world.wall_contacts.begin(), world.wall_contacts.end(), by_pair);
+  return order;
 }
 
 }  // namespace tsubu

@@ -2,6 +2,9 @@
 // grains close in space are close in memory and the force loop's reads of partners hit the
 // cache. Ids, contact histories and every per-particle array move with their particle.
 #pragma once
+#include <cstdint>
+#include <vector>
+
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -9,6 +12,7 @@ namespace tsubu {
 // Reorders world.particles by the Morton code of cells of the smallest diameter (ties keep
 // their order) and renumbers the contact lists to match, sorted by (i, j) again; a pair
 // whose particles swap order gets its tangential spring reversed (it is measured from i).
-void sort_spatially(World& world);
+// Returns order[new] = old.
+std::vector<std::uint32_t> sort_spatially(World& world);
 
 }  // namespace tsubu

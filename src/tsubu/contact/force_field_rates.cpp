@@ -1,0 +1,181 @@
+// ForceField's evaluation of an active set with rates (block-step Hermite): the same lists,
+// contact laws (run on Dual numbers) and gather as the fixed-step evaluation.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tsubu/contact/force_field.hpp"
+#include "tsubu/contact/pair_geometry.hpp"
+#include "tsubu/core/parallel.hpp"
+
+namespace tsubu {
+
+namespace {
+
+constexpr double kNever = std::numeric_limits<double>::infinity();
+
+// Time until a gap closes at approach speed v and approach acceleration a (both along the
+// line of centres, positive when closing): the first root of gap = v t + a t^2/2.
+double time_to_close(double gap, double v, double a) {
+  const double disc = v * v + 2 * a * gap;
+  if (disc < 0) return kNever;
+  const double denom = v + std::sqrt(disc);
+  return denom > 0 ? 2 * gap / denom : kNever;
+}
+
+// The step a contact allows (ContactStepRules): touching, from its collision time at the
+// current approach speed and its current stiffness; apart, from the time to close the gap,
+// never below the step it would get on touching.
+template <class Normal>
+double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
+                    double v_approach, double stiffness, double gap, double a_approach) {
+  const double impact = rules.kappa_c * normal.collision_time(m_eff, r_eff, std::max(v_approach, rules.u_floor));
+  if (touching) return stiffness > 0 ? std::min(impact, rules.kappa_c * M_PI * std::sqrt(m_eff / stiffness)) : impact;
+  return std::max(rules.eta_gap * time_to_close(gap, v_approach, a_approach), impact);
+}
+
+template <class Visit>
+void visit_law(const PairLaw& law, Visit&& visit) {
+  std::visit(
+      [&](const auto& normal, const auto& tangential) {
+        if constexpr (has_rates_v<std::decay_t<decltype(normal)>>) visit(normal, tangential);
+      },
+      law.normal, law.tangential);
+}
+
+}  // namespace
+
+template <class Normal, class Tangential>
+void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
+                                     const Normal& normal, const Tangential& tangential) {
+  const Particles& p = world.particles;
+  Contact& c = world.pair_contacts[k];
+  const Kinematics a = kin.at(c.i), b = kin.at(c.j);
+  const Vec3 d = world.domain.separation(a.x, b.x);
+  const double ri = p.radius[c.i], rj = p.radius[c.j], reach = ri + rj;
+  const double dist = norm(d);
+  const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
+  const double r_eff = ri * rj / reach;
+  c.touching = dist < reach;
+  if (!c.touching) {
+    c.history = {};
+    pair_results_.set(k, {}, {}, 0, 0);
+    const Vec3 n = d / dist;
+    pair_rates_[k] = {{}, {}, 0,
+                      contact_step(normal, rules, m_eff, r_eff, false, -dot(a.v - b.v, n), 0, dist - reach,
+                                   -dot(a.a - b.a, n))};
+    return;
+  }
+  DualContactGeometry g = pair_geometry<Dual>(ri, rj, p.mass[c.i], p.mass[c.j], DualVec3(d, a.v - b.v),
+                                              DualVec3(a.v, a.a), DualVec3(b.v, b.a), DualVec3(a.w, a.alpha),
+                                              DualVec3(b.w, b.alpha));
+  g.dt = static_cast<double>(kin.now - std::max(kin.s.time[c.i], kin.s.time[c.j])) * kin.tick;
+  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
+  const DualVec3 n_x_ft = cross(g.n, f.tangential);
+  pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
+  pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
+                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, f.stiffness, 0, 0)};
+}
+
+template <class Normal, class Tangential>
+void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
+                                     const Normal& normal, const Tangential& tangential) {
+  const Particles& p = world.particles;
+  Contact& c = world.wall_contacts[k];
+  const Wall& wall = world.walls[c.j];
+  const Kinematics a = kin.at(c.i);
+  const double r = p.radius[c.i];
+  const Vec3 v_rel = a.v - wall.velocity;
+  const double dist = wall.distance(a.x);
+  c.touching = dist < r && dist > 0;  // the front side only (see evaluate_walls)
+  if (!c.touching) {
+    c.history = {};
+    wall_results_.set(k, {}, {}, 0, 0);
+    const double bound = dist > 0 ? contact_step(normal, rules, p.mass[c.i], r, false, -dot(v_rel, wall.normal), 0,
+                                                 dist - r, -dot(a.a, wall.normal))
+                                  : kNever;
+    wall_rates_[k] = {{}, {}, 0, bound};
+    return;
+  }
+  const DualVec3 v_centre(v_rel, a.a);
+  DualContactGeometry g = wall_geometry<Dual>(r, p.mass[c.i], wall.normal, Dual(dist, dot(v_rel, wall.normal)),
+                                              v_centre, DualVec3(a.w, a.alpha));
+  g.dt = static_cast<double>(kin.now - kin.s.time[c.i]) * kin.tick;
+  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
+  const DualVec3 n_x_ft = cross(g.n, f.tangential);
+  wall_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
+  wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
+                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, f.stiffness, 0, 0)};
+}
+
+void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
+                                const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
+  Particles& p = world.particles;
+  const auto& pairs = world.pair_contacts;
+  const auto& walls = world.wall_contacts;
+  pair_results_.resize(pairs.size(), false);
+  wall_results_.resize(walls.size(), false);
+  pair_rates_.resize(pairs.size());
+  wall_rates_.resize(walls.size());
+  // Each contact once, from its first active particle; contacts of different active
+  // particles are disjoint, so the active list can be split between threads.
+  parallel_for(active.size(), [&](std::size_t q) {
+    const std::uint32_t i = active[q];
+    for_each_contact_of(i, [&](std::uint32_t k, int side) {
+      if (side == 0) {
+        const Contact& c = walls[k];
+        visit_law(world.laws.at(p.material[c.i], world.walls[c.j].material),
+                  [&](const auto& n, const auto& t) { evaluate_wall_rates(world, kin, k, rules, n, t); });
+      } else if (side > 0 || !is_active[pairs[k].i]) {
+        const Contact& c = pairs[k];
+        visit_law(world.laws.at(p.material[c.i], p.material[c.j]),
+                  [&](const auto& n, const auto& t) { evaluate_pair_rates(world, kin, k, rules, n, t); });
+      }
+    });
+  });
+  // The gather, as in accumulate(), with the rates beside the values.
+  std::vector<double> worst(active.size(), 0.0);
+  std::vector<std::uint64_t> touching(active.size(), 0);
+  parallel_for(active.size(), [&](std::size_t q) {
+    const std::uint32_t i = active[q];
+    const Kinematics k = kin.at(i);
+    const double r = p.radius[i];
+    Vec3 force = p.mass[i] * world.gravity, torque, force_rate, torque_rate;
+    if (world.fluid.enabled) {
+      const FluidLoad fl = fluid_load(world.fluid, 2 * r, world.gravity, k.v, k.w);
+      const FluidLoad fr = fluid_load_rate(world.fluid, 2 * r, k.v, k.a, k.w, k.alpha);
+      force += fl.force, torque += fl.torque, force_rate += fr.force, torque_rate += fr.torque;
+      p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * r);
+    }
+    int count = 0, own = 0;
+    std::uint64_t evaluated = 0;
+    double deepest = 0, bound = kNever;
+    for_each_contact_of(i, [&](std::uint32_t c, int side) {
+      const Results& res = side == 0 ? wall_results_ : pair_results_;
+      const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
+      const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
+      force += sign * res.entry[c].force_i;
+      force_rate += sign * rt.force_i;
+      torque += res.torque(c, r);
+      // d/dt of -(r - delta/2) (n x F_t)
+      torque_rate += (0.5 * rt.delta) * res.entry[c].n_x_ft - (r - 0.5 * res.entry[c].delta) * rt.n_x_ft;
+      (side < 0 ? count : own) += res.entry[c].delta > 0;
+      evaluated += res.entry[c].delta > 0 && (side >= 0 || !is_active[pairs[c].i]);  // once per contact
+      deepest = std::max(deepest, res.entry[c].delta);
+      bound = std::min(bound, rt.step_bound);
+    });
+    worst[q] = std::isfinite(force.x + force.y + force.z) ? deepest / (2.0 * r) : INFINITY;
+    touching[q] = evaluated;
+    p.force[i] = force;
+    p.torque[i] = torque;
+    p.contact_count[i] = count + own;
+    out.force[i] = force_rate;
+    out.torque[i] = torque_rate;
+    out.step_bound[i] = bound;
+  });
+  for (std::uint64_t c : touching) evaluations_ += c;
+  const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
+  if (!(max_ratio <= world.overlap_limit)) report_overlap(world);
+}
+
+}  // namespace tsubu

@@ -1,0 +1,53 @@
+// What the laws see of a pair or wall contact, from the two bodies' kinematics. Written on
+// the number type: on double for forces, on Dual (kinematics with their rates) for forces
+// and their exact rates.
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "tsubu/contact/geometry.hpp"
+
+namespace tsubu {
+
+// Pair (i, j) with separation d = x_i - x_j (touching: |d| < r_i + r_j); velocities and
+// spins of both.
+template <class T>
+BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj, const Vector<T>& d,
+                                      const Vector<T>& vi, const Vector<T>& vj, const Vector<T>& wi,
+                                      const Vector<T>& wj) {
+  using std::sqrt;
+  const T dist = sqrt(norm2(d));
+  BasicContactGeometry<T> g;
+  g.n = d / dist;
+  g.delta = T(ri + rj) - dist;
+  const T arm_i = T(ri) - T(0.5) * g.delta, arm_j = T(rj) - T(0.5) * g.delta;
+  const Vector<T> v_rel = vi - vj + cross(wi, -arm_i * g.n) - cross(wj, arm_j * g.n);
+  g.v_n = dot(v_rel, g.n);
+  g.v_t = v_rel - g.v_n * g.n;
+  g.r_eff = ri * rj / (ri + rj);
+  g.m_eff = mi * mj / (mi + mj);
+  g.d_mean = ri + rj;
+  g.d_small = 2.0 * std::min(ri, rj);
+  return g;
+}
+
+// Particle (radius r, mass m) touching a plane with unit normal n at distance `dist` of its
+// centre; v_rel is the particle's velocity relative to the plane's.
+template <class T>
+BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist, const Vector<T>& v_rel_centre,
+                                      const Vector<T>& w) {
+  BasicContactGeometry<T> g;
+  g.n = n;
+  g.delta = T(r) - dist;
+  const T arm = T(r) - T(0.5) * g.delta;
+  const Vector<T> v_rel = v_rel_centre + cross(w, -arm * g.n);
+  g.v_n = dot(v_rel, g.n);
+  g.v_t = v_rel - g.v_n * g.n;
+  g.r_eff = r;
+  g.m_eff = m;
+  g.d_mean = 2.0 * r;
+  g.d_small = 2.0 * r;
+  return g;
+}
+
+}  // namespace tsubu
