@@ -198,7 +198,18 @@ void write_payload(const Checkpoint& c, Writer& w) {
   w.pod(static_cast<std::uint8_t>(c.energy_watch.started));
   w.pod(c.energy_watch.reference);
   w.pod(c.energy_watch.active_max);
-
+  if (c.block.present) {  // n entries each, n = the particle count above
+    const Checkpoint::BlockSteps& b = c.block;
+    w.pod(std::uint8_t{1});
+    b.state.for_each_array([&](const auto& array) { w.array(array); });
+    w.array(b.list_positions);
+    w.array(b.list_reach);
+    w.pod(static_cast<std::uint8_t>(b.lists_stale));
+    w.u64(b.stats.block_times);
+    w.u64(b.stats.wakes);
+    w.u64(b.stats.evaluations.size());
+    w.array(b.stats.evaluations);
+  }
 }
 
 }  // namespace
@@ -258,6 +269,20 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   const auto started = r.pod<std::uint8_t>();
   if (started > 1) throw CheckpointError("corrupted: energy-watch flag is neither 0 nor 1");
   c.energy_watch = {started == 1, r.pod<double>(), r.pod<double>()};
+  if (!r.at_end()) {
+    Checkpoint::BlockSteps& b = c.block;
+    if (r.pod<std::uint8_t>() != 1) throw CheckpointError("corrupted: unknown section after the energy watch");
+    b.present = true;
+    b.state.for_each_array([&](auto& array) { r.array(array, n); });
+    r.array(b.list_positions, n);
+    r.array(b.list_reach, n);
+    const auto stale = r.pod<std::uint8_t>();
+    if (stale > 1) throw CheckpointError("corrupted: the lists' stale flag is neither 0 nor 1");
+    b.lists_stale = stale == 1;
+    b.stats.block_times = r.u64();
+    b.stats.wakes = r.u64();
+    r.array(b.stats.evaluations, r.count(8));
+  }
   if (!r.at_end()) throw CheckpointError("bytes left after the payload");
   for (const Contact& k : c.pair_contacts)
     if (k.i >= n || k.j >= n) throw CheckpointError("a contact names a particle that does not exist");

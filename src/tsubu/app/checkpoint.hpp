@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tsubu/analysis/energy_watch.hpp"
+#include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -36,6 +37,16 @@ struct Checkpoint {
   std::vector<Contact> pair_contacts, wall_contacts;  // with their histories
   std::vector<Vec3> wall_points, wall_velocities;     // moving walls' planes, per wall
   EnergyWatch::State energy_watch;                    // the energy-growth check's reference
+  // Block-step Hermite runs only (an optional section at the end of the payload): the
+  // integrator's per-particle state, where and how far its lists were built, its counters.
+  struct BlockSteps {
+    bool present = false;
+    HermiteState state;
+    std::vector<Vec3> list_positions;
+    std::vector<double> list_reach;
+    bool lists_stale = false;
+    BlockStepStats stats;
+  } block;
 };
 
 // A checkpoint file that cannot be used (missing, truncated, corrupted, other version).

@@ -17,6 +17,7 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/vtk.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
 
@@ -26,6 +27,15 @@ namespace {
 
 std::int64_t every(double interval, double dt) {
   return std::max<std::int64_t>(1, std::llround(interval / dt));
+}
+
+const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::symplectic_euler: return "symplectic_euler";
+    case Integrator::velocity_verlet: return "velocity_verlet";
+    case Integrator::block_hermite: return "block_hermite";
+  }
+  return "";
 }
 
 std::string json_escape(const std::string& s) {
@@ -47,10 +57,21 @@ void write_run_json(const std::string& path, const Scenario& sc, int threads, co
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
     << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
+    << ",\n  \"integrator\": \"" << integrator_name(sc.integrator) << "\",\n  \"particle_force_evaluations\": " << s.particle_force_evaluations
     << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"list_builds\": " << s.list_builds << ",\n  \"wall_time_s\": " << s.wall_seconds
     << ",\n  \"loop_time_s\": " << s.loop_seconds << ",\n  \"particle_steps_per_second\": " << s.particle_steps_per_second() << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
     << sc.domain.lower.y << ", " << sc.domain.lower.z << "], \"upper\": [" << sc.domain.upper.x << ", " << sc.domain.upper.y
-    << ", " << sc.domain.upper.z << "]},\n  \"results\": {";
+    << ", " << sc.domain.upper.z << "]},\n";
+  if (s.block_steps) {
+    const BlockStepStats& b = *s.block_steps;
+    const double total = static_cast<double>(s.particle_force_evaluations);
+    f << "  \"block_steps\": {\"levels\": " << sc.block_steps.levels << ", \"block_times\": " << b.block_times
+      << ", \"wakes\": " << b.wakes << ", \"evaluation_share_per_level\": [";
+    for (std::size_t k = 0; k < b.evaluations.size(); ++k)
+      f << (k ? ", " : "") << (total > 0 ? static_cast<double>(b.evaluations[k]) / total : 0.0);
+    f << "]},\n";
+  }
+  f << "  \"results\": {";
   const char* sep = "\n";
   for (const auto& [k, v] : s.results) {
     f << sep << "    \"" << json_escape(k) << "\": " << std::setprecision(17) << v;
@@ -92,8 +113,10 @@ class StopSignals {
 
 // The time loop from world's state: from step 0 (from == nullptr; forces not yet computed)
 // or from a checkpoint whose world state, forces included, is already in `world`.
-RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const std::string& out_dir, int threads,
-                   bool progress, const Checkpoint* from) {
+RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_dir, int threads, bool progress,
+                   const Checkpoint* from) {
+  World& world = sim.world();
+  ForceField& forces = sim.forces();
   namespace fs = std::filesystem;
   fs::create_directories(fs::path(out_dir) / "vtk");
   const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
@@ -124,6 +147,8 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     series.open(series_path);
     series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
     for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
+    if (sim.block())  // particles per level (step dt/2^k)
+      for (int k = 0; k <= sc.block_steps.levels; ++k) series << ",level" << k;
     series << '\n';
   }
   series << std::setprecision(12);
@@ -171,6 +196,8 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     for (std::size_t k : moving)
       series << ',' << dot(world.walls[k].point - sc.walls[k].point, world.walls[k].normal) << ','
              << forces.wall_load(world, k);
+    if (sim.block())
+      for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
     series << '\n';
   };
   auto write_frame = [&] {
@@ -213,6 +240,14 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     c.dt = world.dt;
     c.evaluations = forces.evaluations();
     c.rebuilds = forces.rebuilds();
+    if (const BlockHermite* b = sim.block()) {
+      c.block.present = true;
+      c.block.state = b->state();
+      c.block.list_positions = b->list_positions();
+      c.block.list_reach = b->list_reach();
+      c.block.lists_stale = b->lists_stale();
+      c.block.stats = b->stats();
+    }
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frame;
@@ -253,6 +288,8 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     summary.wall_seconds = wall_before + elapsed();
     summary.contact_evaluations = forces.evaluations();
     summary.list_builds = forces.rebuilds();
+    summary.particle_force_evaluations = sim.particle_force_evaluations();
+    if (const BlockHermite* b = sim.block()) summary.block_steps = b->stats();
   };
 
   const std::string json = (fs::path(out_dir) / "run.json").string();
@@ -267,7 +304,7 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
   StopSignals stop_signals;
   try {
     if (!from) {
-      forces.compute(world);
+      sim.start();
       write_series();
       write_track();
       if (vtk_every) write_frame();
@@ -275,7 +312,7 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
     const std::int64_t loop_first = world.step + 1;
     const auto loop_start = std::chrono::steady_clock::now();
     for (std::int64_t s = loop_first; s <= steps; ++s) {
-      advance(sc.integrator, world, forces);
+      sim.step();
       summary.loop_steps = s - loop_first + 1;
       summary.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % series_every == 0 || s == steps) write_series();
@@ -332,9 +369,8 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress) {
-  World world = build_world(sc);
-  ForceField forces;
-  return execute(sc, world, forces, out_dir, threads, progress, nullptr);
+  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);
+  return execute(sc, sim, out_dir, threads, progress, nullptr);
 }
 
 RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
@@ -377,14 +413,24 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
                              " walls, the scenario has " + std::to_string(world.walls.size()));
   for (std::size_t k = 0; k < world.walls.size(); ++k)
     world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
-  ForceField forces;  // lists rebuilt from the stored contacts at the next step; forces are NOT recomputed
-  forces.restore_counters(c.evaluations, c.rebuilds);
+  Simulation sim(std::move(world), sc.integrator, sc.block_steps);
+  // Fixed steps: lists rebuilt from the stored contacts at the next step; forces are NOT
+  // recomputed. Block steps: the lists as they were, from the stored build positions.
+  if (sim.block()) {
+    if (!c.block.present || c.block.state.size() != sim.world().particles.size())
+      throw std::runtime_error(used.string() + ": a block-step run's checkpoint without a complete block-step state");
+    sim.block()->resume(sim.world(), sim.forces(), std::move(c.block.state), std::move(c.block.list_positions),
+                        std::move(c.block.list_reach), c.block.lists_stale, c.block.stats);
+  } else if (c.block.present) {
+    throw std::runtime_error(used.string() + ": holds a block-step state, but the scenario is not a block-step run");
+  }
+  sim.forces().restore_counters(c.evaluations, c.rebuilds);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);
   c.particles = {};
   c.pair_contacts.clear();
   c.wall_contacts.clear();
-  return execute(sc, world, forces, out_dir, threads, progress, &c);
+  return execute(sc, sim, out_dir, threads, progress, &c);
 }
 
 }  // namespace tsubu

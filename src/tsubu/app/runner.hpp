@@ -1,6 +1,7 @@
 // The time loop with its observers: time series, VTK frames, progress line, run.json.
 #pragma once
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,8 @@ struct RunSummary {
   std::size_t particles = 0;
   std::uint64_t contact_evaluations = 0;
   std::uint64_t list_builds = 0;  // neighbour-list builds
+  std::uint64_t particle_force_evaluations = 0;  // see Simulation::particle_force_evaluations
+  std::optional<BlockStepStats> block_steps;     // block-step runs
   double wall_seconds = 0;
   // The stepping loop of this session alone (no set-up, first evaluation, or final
   // checkpoint), like the peers' "Loop time": particle-steps per second come from these.

@@ -23,8 +23,9 @@ void carry_history(const std::vector<Pair>& found, const std::vector<Contact>& o
     while (o < old.size() && (old[o].i < f.i || (old[o].i == f.i && old[o].j < f.j))) ++o;
     out[k].i = f.i;
     out[k].j = f.j;
-    out[k].touching = false;
-    out[k].history = (o < old.size() && old[o].i == f.i && old[o].j == f.j) ? old[o].history : ContactHistory{};
+    const bool kept = o < old.size() && old[o].i == f.i && old[o].j == f.j;
+    out[k].touching = kept && old[o].touching;  // as of the last evaluation
+    out[k].history = kept ? old[o].history : ContactHistory{};
   }
 }
 

@@ -47,7 +47,8 @@ class ForceField {
 
   // Block steps (the same lists, laws and gather): evaluates the active particles at the
   // predictor's time from the predicted state of every particle they touch, with the exact
-  // rates of every force and torque. A contact is evaluated once, from its first active
+  // rates of every force and torque: gravity and contacts; the fluid's forces are left to
+  // the integrator (they depend on the corrected velocity). A contact is evaluated once, from its first active
   // particle; its history advances by the time since the later of its particles' last
   // evaluations (their shared step). The lists are the stepper's to rebuild (rebuild_at).
   void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,

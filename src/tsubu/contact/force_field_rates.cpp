@@ -138,15 +138,11 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   std::vector<std::uint64_t> touching(active.size(), 0);
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
-    const Kinematics k = kin.at(i);
     const double r = p.radius[i];
     Vec3 force = p.mass[i] * world.gravity, torque, force_rate, torque_rate;
-    if (world.fluid.enabled) {
-      const FluidLoad fl = fluid_load(world.fluid, 2 * r, world.gravity, k.v, k.w);
-      const FluidLoad fr = fluid_load_rate(world.fluid, 2 * r, k.v, k.a, k.w, k.alpha);
-      force += fl.force, torque += fl.torque, force_rate += fr.force, torque_rate += fr.torque;
-      p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * r);
-    }
+    // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
+    // where the corrected velocity is known (see BlockHermite::correct).
+    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * r);
     int count = 0, own = 0;
     std::uint64_t evaluated = 0;
     double deepest = 0, bound = kNever;

@@ -31,7 +31,7 @@ constexpr bool operator<=(Dual a, Dual b) { return a.v <= b.v; }
 constexpr bool operator>=(Dual a, Dual b) { return a.v >= b.v; }
 inline Dual sqrt(Dual a) {
   const double s = std::sqrt(a.v);
-  return {s, 0.5 * a.d / s};
+  return {s, a.d == 0 ? 0.0 : 0.5 * a.d / s};  // a constant zero stays a constant
 }
 inline Dual pow(Dual a, double p) {
   const double r = std::pow(a.v, p - 1);

@@ -111,6 +111,12 @@ FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec
   return {rate(l.force), rate(l.torque)};
 }
 
+double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed) {
+  if (!fluid.enabled || !fluid.drag) return INFINITY;
+  const double area = M_PI * d * d / 4;
+  return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(speed * d / fluid.viscosity));
+}
+
 double drag_coefficient(double re) { return re_times_cd(re) / re; }
 
 double loth_lift_coefficient(double re, double rr) { return loth(re, rr); }

@@ -56,6 +56,10 @@ FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u,
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
                           const Vec3& alpha);
 
+// Relaxation time of the drag on a sphere of diameter d and translational mass m moving at
+// `speed` through the still fluid: m / (F_drag/speed), s (infinite without drag).
+double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed);
+
 // Schiller-Naumann C_D(Re) = 24/Re (1 + 0.15 Re^0.687) for Re <= 1000, 0.44 above.
 double drag_coefficient(double re);
 

@@ -22,9 +22,16 @@ struct HermiteState {
   void resize(std::size_t n) {
     time.resize(n), level.resize(n), acc.resize(n), jerk.resize(n), alpha.resize(n), alpha_dot.resize(n);
   }
+  // f(array) for every array, always in this order (the checkpoint format's).
   template <class F>
-  void for_each_array(F&& f) {
-    f(time), f(level), f(acc), f(jerk), f(alpha), f(alpha_dot);
+  void for_each_array(F&& f) { each_array(*this, f); }
+  template <class F>
+  void for_each_array(F&& f) const { each_array(*this, f); }
+
+ private:
+  template <class Self, class F>
+  static void each_array(Self& s, F& f) {
+    f(s.time), f(s.level), f(s.acc), f(s.jerk), f(s.alpha), f(s.alpha_dot);
   }
 };
 

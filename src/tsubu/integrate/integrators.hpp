@@ -7,7 +7,8 @@
 
 namespace tsubu {
 
-enum class Integrator { symplectic_euler, velocity_verlet };
+// block_hermite: BlockHermite (block_hermite.hpp), not a fixed-step scheme.
+enum class Integrator { symplectic_euler, velocity_verlet, block_hermite };
 
 // Forces are divided by the translational mass (mass plus the fluid's added mass).
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
@@ -17,6 +18,7 @@ void symplectic_euler_step(World& world, ForceField& forces);
 // velocity, as LAMMPS and LIGGGHTS do); v <- v + F/m dt/2.
 void velocity_verlet_step(World& world, ForceField& forces);
 
+// One fixed step of symplectic Euler or velocity Verlet.
 inline void advance(Integrator integrator, World& world, ForceField& forces) {
   if (integrator == Integrator::symplectic_euler) symplectic_euler_step(world, forces);
   else velocity_verlet_step(world, forces);

@@ -83,14 +83,40 @@ int material_named(const Scenario& sc, const Section& s, std::string_view key, c
 
 int material_index(const Scenario& sc, Section& s, std::string_view key) { return material_named(sc, s, key, s.text(key)); }
 
+// [simulation.block_steps]: the step rules of the block-step Hermite integrator
+// (docs/scenario.md, docs/integrators.md).
+void read_block_steps(Section& s, BlockStepRules& r) {
+  const std::int64_t levels = s.integer("levels", r.levels);
+  if (levels < 0 || levels > 30) s.fail("levels", "allowed 0 to 30 (steps dt down to dt/2^levels)" + got(static_cast<double>(levels)));
+  r.levels = static_cast<int>(levels);
+  const std::int64_t force = s.integer("force_level", -1);
+  if (force < -1 || force > levels)
+    s.fail("force_level", "allowed -1 (off) or 0 to block_steps.levels (" + std::to_string(levels) + ")" + got(static_cast<double>(force)));
+  r.force_level = static_cast<int>(force);
+  r.kappa_c = s.positive("kappa_c", r.kappa_c);
+  r.eta_gap = s.positive("eta_gap", r.eta_gap);
+  r.eta_tau = s.positive("eta_tau", r.eta_tau);
+  r.eta_a = s.positive("eta_a", r.eta_a);
+  r.eta_s = s.positive("eta_s", r.eta_s);
+  r.u_floor = s.positive("u_floor", r.u_floor);
+  r.list_horizon = s.positive("list_horizon", r.list_horizon);
+  s.finish();
+}
+
 void read_simulation(Section s, Scenario& sc) {
   sc.name = s.text("name", std::filesystem::path(sc.file).stem().string());
   sc.duration = s.positive("duration");
   sc.dt = s.positive("dt");
   if (sc.dt > sc.duration) s.fail("dt", "must not exceed simulation.duration (" + num(sc.duration) + " s)" + got(sc.dt));
-  sc.integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler"}, "velocity_verlet") == "symplectic_euler"
-                      ? Integrator::symplectic_euler
-                      : Integrator::velocity_verlet;
+  const std::string integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler", "block_hermite"}, "velocity_verlet");
+  sc.integrator = integrator == "symplectic_euler" ? Integrator::symplectic_euler
+                  : integrator == "block_hermite"  ? Integrator::block_hermite
+                                                   : Integrator::velocity_verlet;
+  if (auto b = s.table("block_steps")) {
+    if (sc.integrator != Integrator::block_hermite)
+      b->fail("levels", "[simulation.block_steps] is read only with simulation.integrator = \"block_hermite\"");
+    read_block_steps(*b, sc.block_steps);
+  }
   sc.gravity = s.vec3("gravity", {0, 0, -9.81});
   const std::int64_t seed = s.integer("seed", 1);
   if (seed < 0) s.fail("seed", "must be >= 0");
@@ -141,6 +167,11 @@ ContactSpec read_contact_spec(Section& s, Integrator integrator) {
   const bool hh = c.normal == "hooke_hysteresis";
   const bool linear_spring = c.normal == "linear" || c.normal.rfind("energy_conserving", 0) == 0;
   const bool energy_model = c.normal.rfind("energy_conserving", 0) == 0;
+  if (integrator == Integrator::block_hermite && (energy_model || hh))
+    s.fail("normal", "model \"" + c.normal +
+                         "\" is defined on fixed time steps (its history or position correction assumes one global dt)"
+                         " and cannot run with simulation.integrator = \"block_hermite\"; allowed with it: \"linear\","
+                         " \"hertz_tsuji\", \"hertz_sediment\"");
   if (energy_model && integrator != Integrator::symplectic_euler)
     s.fail("normal", "model \"" + c.normal +
                          "\" is built on the symplectic Euler scheme and needs simulation.integrator = \"symplectic_euler\"");

@@ -7,6 +7,7 @@
 
 #include "tsubu/contact/law.hpp"
 #include "tsubu/fluid/fluid.hpp"
+#include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/size_distribution.hpp"
@@ -66,6 +67,7 @@ struct Scenario {
   std::vector<std::string> overrides;  // the --set values, in order
   double duration = 0, dt = 0;
   Integrator integrator = Integrator::velocity_verlet;
+  BlockStepRules block_steps;  // [simulation.block_steps], integrator = "block_hermite"
   Vec3 gravity{0, 0, -9.81};
   Fluid fluid;  // [fluid]; absent: no fluid
   std::uint64_t seed = 1;

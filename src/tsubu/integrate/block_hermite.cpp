@@ -1,0 +1,365 @@
+#include "tsubu/integrate/block_hermite.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "tsubu/core/error.hpp"
+#include "tsubu/core/parallel.hpp"
+
+namespace tsubu {
+
+namespace {
+
+constexpr double kNever = std::numeric_limits<double>::infinity();
+
+// Aarseth's criterion from a, its first three derivatives at the step's end.
+double aarseth(double eta, const Vec3& a, const Vec3& j, const Vec3& a2, const Vec3& a3) {
+  const double na = norm(a), nj = norm(j), n2 = norm(a2), n3 = norm(a3);
+  const double den = nj * n3 + n2 * n2;
+  return den > 0 ? std::sqrt(eta * (na * n2 + nj * nj) / den) : kNever;
+}
+
+// The second-order estimate eta_s |a|/|j| (first steps, and after the force jumped).
+double second_order(double eta, const Vec3& a, const Vec3& j) {
+  const double nj = norm(j);
+  return nj > 0 ? eta * norm(a) / nj : kNever;
+}
+
+// Union-find root with path halving.
+std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+double BlockHermite::tick(const World& world) const { return std::ldexp(world.dt, -rules_.levels); }
+
+Predictor BlockHermite::predictor(const World& world, std::int64_t now) const {
+  return Predictor{world.particles, state_, world.domain, now, tick(world)};
+}
+
+int BlockHermite::level_for(double bound, const World& world) const {
+  if (rules_.force_level >= 0) return rules_.force_level;
+  if (!(bound < world.dt)) return 0;
+  // The coarsest level whose step dt/2^k is not above the bound.
+  const int k = static_cast<int>(std::ceil(std::log2(world.dt / bound)));
+  return std::clamp(k, 0, rules_.levels);
+}
+
+void BlockHermite::set_level(std::uint32_t i, int level) {
+  const int old = state_.level[i];
+  if (old == level && slot_[i] != UINT32_MAX) return;
+  if (slot_[i] != UINT32_MAX) {  // out of the old level's list (swap with its last)
+    auto& from = members_[static_cast<std::size_t>(old)];
+    const std::uint32_t moved = from.back();
+    from[slot_[i]] = moved;
+    slot_[moved] = slot_[i];
+    from.pop_back();
+  }
+  auto& to = members_[static_cast<std::size_t>(level)];
+  slot_[i] = static_cast<std::uint32_t>(to.size());
+  to.push_back(i);
+  state_.level[i] = static_cast<std::uint8_t>(level);
+}
+
+void BlockHermite::index_levels() {
+  members_.assign(static_cast<std::size_t>(rules_.levels) + 1, {});
+  slot_.assign(state_.size(), UINT32_MAX);
+  for (std::uint32_t i = 0; i < state_.size(); ++i) set_level(i, state_.level[i]);
+}
+
+void BlockHermite::start(World& world, ForceField& forces) {
+  const std::size_t n = world.particles.size();
+  const std::int64_t now = world.step << rules_.levels;
+  state_ = {};
+  state_.resize(n);
+  std::fill(state_.time.begin(), state_.time.end(), now);
+  index_levels();
+  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  is_active_.assign(n, 1);
+  active_.resize(n);
+  std::iota(active_.begin(), active_.end(), 0u);
+  rebuild_lists(world, forces, now);
+  // Twice: the first gives the accelerations that the rates of damping and drag need.
+  std::vector<int> contacts_before(world.particles.contact_count);
+  Particles& p = world.particles;
+  for (int pass = 0; pass < 2; ++pass) {
+    forces.compute_active(world, predictor(world, now), active_, is_active_,
+                          {rules_.kappa_c, rules_.eta_gap, rules_.u_floor}, rates_);
+    parallel_for(n, [&](std::size_t i) {
+      const double d = 2 * p.radius[i], m = p.translational_mass[i];
+      const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+      state_.acc[i] = (p.force[i] + fl.force) / m;
+      state_.alpha[i] = (p.torque[i] + fl.torque) / p.inertia[i];
+      const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
+      state_.jerk[i] = (rates_.force[i] + fr.force) / m;
+      state_.alpha_dot[i] = (rates_.torque[i] + fr.torque) / p.inertia[i];
+      if (pass == 1) p.force[i] += fl.force, p.torque[i] += fl.torque;
+    });
+  }
+  stats_.evaluations[0] += n;  // the first evaluation, counted once
+  std::fill(contacts_before.begin(), contacts_before.end(), -1);  // every step is a first step
+  choose_levels(world, forces, now, contacts_before);
+  std::fill(is_active_.begin(), is_active_.end(), 0);
+  active_.clear();
+}
+
+void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,
+                          std::vector<double> list_reach, bool lists_stale, const BlockStepStats& stats) {
+  const std::size_t n = world.particles.size();
+  state_ = std::move(state);
+  stats_ = stats;
+  stats_.evaluations.resize(static_cast<std::size_t>(rules_.levels) + 1, 0);
+  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  is_active_.assign(n, 0);
+  active_.clear();
+  index_levels();
+  list_positions_ = std::move(list_positions);
+  list_reach_ = std::move(list_reach);
+  forces.rebuild_at(world, list_positions_, list_reach_);  // the lists the run had
+  list_skin_ = forces.skin();
+  walls_built_at_.clear();
+  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
+  lists_stale_ = lists_stale;
+}
+
+void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t t) {
+  const Particles& p = world.particles;
+  const std::size_t n = p.size();
+  const Predictor kin = predictor(world, t);
+  const double horizon = rules_.list_horizon * world.dt;
+  list_positions_.resize(n);
+  list_reach_.resize(n);
+  parallel_for(n, [&](std::size_t i) {
+    const Kinematics k = kin.at(i);
+    list_positions_[i] = k.x;
+    // How far the grain can go in the horizon, at most one own diameter: a falling grain
+    // keeps its list for several dt, a grain at rest costs only the skin.
+    list_reach_[i] = std::min(norm(k.v) * horizon + 0.5 * norm(k.a) * horizon * horizon, 2 * p.radius[i]);
+  });
+  forces.rebuild_at(world, list_positions_, list_reach_);
+  list_skin_ = forces.skin();
+  walls_built_at_.clear();
+  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
+  lists_stale_ = false;
+}
+
+bool BlockHermite::list_outrun(const World& world, std::uint32_t i) const {
+  // Where the particle can be by the end of its next step (the Taylor series' terms
+  // bounded one by one), against where the list allows it to go.
+  const Particles& p = world.particles;
+  const double s = static_cast<double>(step_ticks(state_.level[i])) * tick(world);
+  const double moved = norm(world.domain.separation(p.position[i], list_positions_[i]));
+  const double ahead = s * (norm(p.velocity[i]) + s * (0.5 * norm(state_.acc[i]) + s / 6.0 * norm(state_.jerk[i])));
+  return moved + ahead > list_reach_[i] + 0.45 * list_skin_;  // 10 % spare for the corrector
+}
+
+void BlockHermite::collect_active(std::int64_t t) {
+  // Level k's steps end at multiples of 2^(L-k) ticks: the levels at or below the
+  // trailing zeros of t are due.
+  const int zeros = t == 0 ? rules_.levels : std::min(std::countr_zero(static_cast<std::uint64_t>(t)), rules_.levels);
+  active_.clear();
+  for (int k = rules_.levels - zeros; k <= rules_.levels; ++k)
+    for (std::uint32_t i : members_[static_cast<std::size_t>(k)]) active_.push_back(i);
+  std::sort(active_.begin(), active_.end());  // the same order whatever the level history
+  for (std::uint32_t i : active_) is_active_[i] = 1;
+}
+
+void BlockHermite::wake(const World& world, const ForceField& forces, std::int64_t t) {
+  // A listed neighbour that would touch an active particle at t joins the evaluation, with
+  // every particle it touches (they share its time): a contact is never evaluated from one
+  // side only. Its step then ends at t, not at a power of two: the corrector takes any h.
+  const Predictor kin = predictor(world, t);
+  const Particles& p = world.particles;
+  std::vector<std::uint32_t> stack;
+  for (std::size_t q = 0; q < active_.size(); ++q) {
+    const std::uint32_t i = active_[q];
+    const Vec3 xi = kin.at(i).x;
+    forces.for_each_pair_of(world, i, [&](std::uint32_t j, std::uint32_t) {
+      if (is_active_[j]) return;
+      const double reach = p.radius[i] + p.radius[j];
+      if (norm2(world.domain.separation(xi, kin.at(j).x)) >= reach * reach) return;
+      stack.push_back(j);
+      while (!stack.empty()) {
+        const std::uint32_t w = stack.back();
+        stack.pop_back();
+        if (is_active_[w]) continue;
+        is_active_[w] = 1;
+        active_.push_back(w);
+        ++stats_.wakes;
+        forces.for_each_pair_of(world, w, [&](std::uint32_t y, std::uint32_t k) {
+          if (!is_active_[y] && world.pair_contacts[k].touching) stack.push_back(y);
+        });
+      }
+    });
+  }
+}
+
+void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
+  forces.compute_active(world, predictor(world, t), active_, is_active_, {rules_.kappa_c, rules_.eta_gap, rules_.u_floor},
+                        rates_);
+  for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
+}
+
+void BlockHermite::correct(World& world, std::int64_t t) {
+  // Spec section 1, corrector: with h = t - t_i,
+  //   a2 = (-6 (a0 - a1) - h (4 j0 + 2 j1)) / h^2, a3 = (12 (a0 - a1) + 6 h (j0 + j1)) / h^3,
+  //   x = x_p + a2 h^4/24 + a3 h^5/120, v = v_p + a2 h^3/6 + a3 h^4/24; rotation likewise.
+  Particles& p = world.particles;
+  const Predictor kin = predictor(world, t);
+  const double dt_tick = tick(world);
+  std::vector<char> lost(active_.size(), 0);
+  parallel_for(active_.size(), [&](std::size_t q) {
+    const std::uint32_t i = active_[q];
+    const double h = static_cast<double>(t - state_.time[i]) * dt_tick;
+    const Kinematics pred = kin.at(i);
+    const double m = p.translational_mass[i], inertia = p.inertia[i];
+    const double h2 = h * h, h3 = h2 * h, h4 = h3 * h;
+    auto corrector = [&](const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, Vec3& a2, Vec3& a3) {
+      a2 = (-6.0 * (a0 - a1) - h * (4.0 * j0 + 2.0 * j1)) / (h * h);
+      a3 = (12.0 * (a0 - a1) + 6.0 * h * (j0 + j1)) / (h * h * h);
+    };
+    // Contacts and gravity from the evaluation; the still fluid's velocity-dependent forces
+    // evaluated twice, at the predicted and then at the corrected velocity and spin
+    // (P(EC)^2 for the fluid), with rates from the evaluated accelerations: fourth order
+    // where the fluid alone acts (docs/integrators.md).
+    const Vec3 f_c = p.force[i], t_c = p.torque[i];
+    Vec3 v = pred.v, w = pred.w, a1, j1, al1, ad1, a2, a3, b2, b3;
+    const int passes = world.fluid.enabled ? 2 : 1;
+    for (int pass = 0; pass < passes; ++pass) {
+      const FluidLoad fl = fluid_load(world.fluid, 2 * p.radius[i], world.gravity, v, w);
+      a1 = (f_c + fl.force) / m, al1 = (t_c + fl.torque) / inertia;
+      const FluidLoad fr = fluid_load_rate(world.fluid, 2 * p.radius[i], v, a1, w, al1);
+      j1 = (rates_.force[i] + fr.force) / m, ad1 = (rates_.torque[i] + fr.torque) / inertia;
+      corrector(state_.acc[i], state_.jerk[i], a1, j1, a2, a3);
+      corrector(state_.alpha[i], state_.alpha_dot[i], al1, ad1, b2, b3);
+      v = pred.v + (h3 / 6.0) * a2 + (h4 / 24.0) * a3;
+      w = pred.w + (h3 / 6.0) * b2 + (h4 / 24.0) * b3;
+      if (pass + 1 == passes) p.force[i] = f_c + fl.force, p.torque[i] = t_c + fl.torque;
+    }
+    const Vec3 x = world.domain.wrap(pred.x + (h4 / 24.0) * a2 + (h4 * h / 120.0) * a3);
+    p.position[i] = x;
+    p.velocity[i] = v;
+    p.omega[i] = w;
+    state_.acc[i] = a1, state_.jerk[i] = j1, state_.alpha[i] = al1, state_.alpha_dot[i] = ad1;
+    state_.time[i] = t;
+    // Aarseth's criterion with the derivatives at the step's end; kept in step_bound.
+    rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, a1, j1, a2 + h * a3, a3));
+    lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
+  });
+  for (std::size_t q = 0; q < active_.size(); ++q)
+    if (lost[q]) {
+      const std::uint32_t i = active_[q];
+      const Vec3 x = p.position[i], v = p.velocity[i];
+      std::ostringstream msg;
+      msg << "step " << world.step << " (block time " << world.time << " s, level " << int(state_.level[i])
+          << "): particle id " << p.id[i] << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", "
+          << x.z << ") m, v = (" << v.x << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the step"
+          << " rules too loose for this problem ([simulation.block_steps])";
+      throw NumericalError(msg.str());
+    }
+}
+
+void BlockHermite::choose_levels(const World& world, const ForceField& forces, std::int64_t t,
+                                 const std::vector<int>& contacts_before) {
+  const Particles& p = world.particles;
+  // Each active particle's wish: contacts and gaps (from the evaluation), the fluid's
+  // relaxation time, Aarseth (from the corrector) or, after a contact began or ended, the
+  // second-order estimate.
+  std::vector<int> wish(active_.size());
+  parallel_for(active_.size(), [&](std::size_t q) {
+    const std::uint32_t i = active_[q];
+    double bound = rates_.step_bound[i];
+    bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
+                                                                  norm(p.velocity[i])));
+    if (contacts_before[q] != p.contact_count[i])
+      bound = std::min(bound, second_order(rules_.eta_s, state_.acc[i], state_.jerk[i]));
+    int level = level_for(bound, world);
+    if (rules_.force_level < 0) {
+      level = std::max(level, int(state_.level[i]) - 1);  // double at most once a step
+      // The new step must end on its own grid: t a multiple of it.
+      const int zeros = t == 0 ? rules_.levels : std::min(std::countr_zero(static_cast<std::uint64_t>(t)), rules_.levels);
+      level = std::max(level, rules_.levels - zeros);
+    }
+    wish[q] = level;
+  });
+  // Particles in touch share the finest wish of their cluster.
+  std::vector<std::uint32_t> parent(active_.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  std::vector<std::uint32_t> where(p.size(), UINT32_MAX);
+  for (std::uint32_t q = 0; q < active_.size(); ++q) where[active_[q]] = q;
+  for (std::uint32_t q = 0; q < active_.size(); ++q)
+    forces.for_each_pair_of(world, active_[q], [&](std::uint32_t j, std::uint32_t k) {
+      if (world.pair_contacts[k].touching && where[j] != UINT32_MAX) {
+        const std::uint32_t a = root(parent, q), b = root(parent, where[j]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    });
+  std::vector<int> cluster(active_.size(), 0);
+  for (std::uint32_t q = 0; q < active_.size(); ++q) {
+    int& c = cluster[root(parent, q)];
+    c = std::max(c, wish[q]);
+  }
+  for (std::uint32_t q = 0; q < active_.size(); ++q) set_level(active_[q], cluster[root(parent, q)]);
+}
+
+void BlockHermite::advance(World& world, ForceField& forces) {
+  const std::int64_t begin = world.step << rules_.levels, end = begin + (std::int64_t{1} << rules_.levels);
+  const double dt_tick = tick(world);
+  if (world.search.sort_every > 0 && world.step % world.search.sort_every == 0) {
+    const std::vector<std::uint32_t> order = forces.sort(world);  // order[new] = old
+    state_.for_each_array([&](auto& a) {
+      auto sorted = a;
+      for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = a[order[k]];
+      a.swap(sorted);
+    });
+    index_levels();
+    lists_stale_ = true;
+  }
+  std::int64_t now = begin;
+  std::vector<int> contacts_before;
+  while (now < end) {
+    int finest = 0;
+    for (int k = rules_.levels; k >= 0; --k)
+      if (!members_[static_cast<std::size_t>(k)].empty()) { finest = k; break; }
+    const std::int64_t h = step_ticks(finest);
+    const std::int64_t t = now - now % h + h;
+    for (Wall& w : world.walls) w.advance(static_cast<double>(now) * dt_tick, static_cast<double>(t - now) * dt_tick);
+    world.time = static_cast<double>(t) * dt_tick;
+    for (std::size_t w = 0; w < world.walls.size() && !lists_stale_; ++w)
+      lists_stale_ = norm2(world.walls[w].point - walls_built_at_[w]) > 0.25 * forces.skin() * forces.skin();
+    if (lists_stale_) rebuild_lists(world, forces, t);
+    collect_active(t);
+    wake(world, forces, t);
+    contacts_before.resize(active_.size());
+    for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
+    evaluate(world, forces, t);
+    correct(world, t);
+    choose_levels(world, forces, t, contacts_before);
+    for (std::uint32_t i : active_) {
+      lists_stale_ = lists_stale_ || list_outrun(world, i);
+      is_active_[i] = 0;
+    }
+    ++stats_.block_times;
+    now = t;
+  }
+  ++world.step;
+  world.time = static_cast<double>(world.step) * world.dt;
+}
+
+std::vector<std::size_t> BlockHermite::level_histogram() const {
+  std::vector<std::size_t> h(members_.size());
+  for (std::size_t k = 0; k < members_.size(); ++k) h[k] = members_[k].size();
+  return h;
+}
+
+std::uint64_t BlockHermite::particle_evaluations() const {
+  return std::accumulate(stats_.evaluations.begin(), stats_.evaluations.end(), std::uint64_t{0});
+}
+
+}  // namespace tsubu

@@ -1,0 +1,90 @@
+// Block-step Hermite integrator (Sota & Watanabe section 3.1; docs/integrators.md): a
+// fourth-order Hermite predictor-evaluate-corrector scheme in which every particle has its
+// own time and its own step dt / 2^level. Time is an integer count of ticks dt / 2^L (L the
+// finest level), so block times are exact. At each block time the active particles (those
+// whose step ends there) are evaluated from the predicted state of everything they touch
+// and corrected; the others are only predicted. Particles in touch share a level, so each
+// contact's forces are equal and opposite and its history advances once per shared step.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "tsubu/contact/force_field.hpp"
+#include "tsubu/integrate/hermite_state.hpp"
+
+namespace tsubu {
+
+// [simulation.block_steps] of a scenario (docs/scenario.md).
+struct BlockStepRules {
+  int levels = 20;          // L: steps dt, dt/2, ..., dt/2^L
+  int force_level = -1;     // >= 0: every particle on this level (a shared-step Hermite run)
+  double kappa_c = 0.04;    // contact step: kappa_c t_coll (Eq. 20) or kappa_c pi sqrt(m*/k)
+  double eta_gap = 0.5;     // free particles: share of the time to close a gap
+  double eta_tau = 0.1;     // share of the fluid relaxation time
+  double eta_a = 0.02;      // Aarseth criterion
+  double eta_s = 0.01;      // first step and after a contact begins or ends: eta_s |a|/|j|
+  double u_floor = 1e-3;    // m/s, lowest impact speed in Eq. 20
+  double list_horizon = 4;  // a moving grain's neighbour list reaches this many dt ahead
+};
+
+// What the stepper did, for run.json and the series.
+struct BlockStepStats {
+  std::uint64_t block_times = 0;
+  std::uint64_t wakes = 0;                      // particles woken early by a new contact
+  std::vector<std::uint64_t> evaluations;       // particle force evaluations per level
+};
+
+class BlockHermite {
+ public:
+  explicit BlockHermite(const BlockStepRules& rules) : rules_(rules) { stats_.evaluations.assign(static_cast<std::size_t>(rules.levels) + 1, 0); }
+
+  // A fresh run: evaluates every particle at world.step (a multiple of dt) and picks the
+  // first steps.
+  void start(World& world, ForceField& forces);
+  // Continues from a checkpoint: the state as stored; lists rebuilt as they were.
+  void resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,
+              std::vector<double> list_reach, bool lists_stale, const BlockStepStats& stats);
+  // Advances every particle by dt through the block times in between: afterwards all are
+  // at time (world.step + 1) dt, which world.step and world.time then say.
+  void advance(World& world, ForceField& forces);
+
+  const HermiteState& state() const { return state_; }
+  const BlockStepStats& stats() const { return stats_; }
+  const std::vector<Vec3>& list_positions() const { return list_positions_; }
+  const std::vector<double>& list_reach() const { return list_reach_; }
+  bool lists_stale() const { return lists_stale_; }
+  // Particles per level now.
+  std::vector<std::size_t> level_histogram() const;
+  std::uint64_t particle_evaluations() const;
+
+ private:
+  BlockStepRules rules_;
+  HermiteState state_;
+  BlockStepStats stats_;
+  EvaluationRates rates_;
+  std::vector<std::vector<std::uint32_t>> members_;  // particles of each level
+  std::vector<std::uint32_t> slot_;                  // index of each particle in its level's list
+  std::vector<char> is_active_;
+  std::vector<std::uint32_t> active_;
+  std::vector<Vec3> list_positions_;  // where the lists were built (positions predicted to then)
+  std::vector<double> list_reach_;
+  bool lists_stale_ = false;
+  double list_skin_ = 0;
+  std::vector<Vec3> walls_built_at_;
+
+  double tick(const World& world) const;
+  std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
+  Predictor predictor(const World& world, std::int64_t now) const;
+  void set_level(std::uint32_t i, int level);
+  void index_levels();
+  void collect_active(std::int64_t t);
+  void wake(const World& world, const ForceField& forces, std::int64_t t);
+  void evaluate(World& world, ForceField& forces, std::int64_t t);
+  void correct(World& world, std::int64_t t);
+  void choose_levels(const World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
+  void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
+  bool list_outrun(const World& world, std::uint32_t i) const;
+  int level_for(double bound, const World& world) const;
+};
+
+}  // namespace tsubu

@@ -1,0 +1,48 @@
+// A run's state and its time loop as a library: world, contact lists and force field, and
+// the integrator that advances them. The command line drives it (app/runner.cpp), adding
+// files, progress and signals around it; other drivers (Python, MPI) drive the same object.
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "tsubu/contact/force_field.hpp"
+#include "tsubu/integrate/block_hermite.hpp"
+#include "tsubu/integrate/integrators.hpp"
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+class Simulation {
+ public:
+  // `world` at its start (step 0, forces not yet evaluated) or restored from a checkpoint.
+  Simulation(World world, Integrator integrator, const BlockStepRules& block_steps);
+
+  // A fresh run: the first force evaluation (and, for block steps, the first steps).
+  void start();
+  // One step of dt: one fixed step, or for block steps every block time up to the next
+  // multiple of dt (where every particle's time is the same).
+  void step();
+  // Steps until world().step == step.
+  void advance_to(std::int64_t step);
+
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  ForceField& forces() { return forces_; }
+  const ForceField& forces() const { return forces_; }
+  Integrator integrator() const { return integrator_; }
+  // The block-step integrator, or null for fixed steps.
+  BlockHermite* block() { return block_.get(); }
+  const BlockHermite* block() const { return block_.get(); }
+
+  // Single-particle force evaluations so far: particles x (steps + 1) for fixed steps, the
+  // sum of the active sets for block steps.
+  std::uint64_t particle_force_evaluations() const;
+
+ private:
+  World world_;
+  ForceField forces_;
+  Integrator integrator_;
+  std::unique_ptr<BlockHermite> block_;
+};
+
+}  // namespace tsubu
