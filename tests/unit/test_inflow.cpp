@@ -62,6 +62,7 @@ TEST(Inflow, ReportedRates) {
   EXPECT_NEAR(c.mass_flux(), F, 1e-15);
   EXPECT_NEAR(c.grains_per_second(), F / (2650 * M_PI / 6 * 1e-6), 1e-9);
   EXPECT_NEAR(c.flux_number(), F * std::sqrt(0.04 / 9.81), 1e-15);
+  EXPECT_EQ(inflow_rates(c).front(), (std::pair<std::string, double>{"inflow_F", c.mass_flux()}));
 }
 
 TEST(Inflow, MeasuredMassFluxWithinTwoPercent) {
@@ -177,6 +178,7 @@ TEST(Inflow, CrowdedEntryDelaysGrainsWithoutDroppingOrOverlapping) {
   EXPECT_EQ(s.state().waiting.size(), blocked.delayed);
   const Admission still = admit_due(s, 0.1005, box, full, 0, 0);  // the same grains, counted again
   EXPECT_EQ(s.state().delays, static_cast<std::int64_t>(blocked.delayed + still.delayed));
+  EXPECT_EQ(inflow_counts(s.state())[2], (std::pair<std::string, double>{"inflow_delays", double(s.state().delays)}));
   // The box empties: the waiting grains enter at the entry plane as room appears (grains
   // inside fall at u_r), none lost, none overlapping.
   Particles p;

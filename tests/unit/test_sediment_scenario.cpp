@@ -36,8 +36,9 @@ TEST(SedimentScenario, CheckPrintsTheInflowRates) {
   char buf[512];
   for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
   EXPECT_EQ(pclose(pipe), 0) << out;
-  EXPECT_NE(out.find("inflow: F = 0.139"), std::string::npos) << out;
-  for (const char* word : {"grains/s", "phi_0 = 0.1", "Q = F t_f"}) EXPECT_NE(out.find(word), std::string::npos) << out;
+  EXPECT_NE(out.find("  inflow_F = 0.139"), std::string::npos) << out;
+  for (const char* word : {"inflow_grains_per_s = ", "inflow_phi_0 = 0.1\n", "inflow_Q = "})
+    EXPECT_NE(out.find(word), std::string::npos) << out;
 }
 
 TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {

@@ -53,12 +53,8 @@ int main(int argc, char** argv) {
       const tsubu::World w = tsubu::build_world(sc);
       std::printf("%s: ok (%zu particles, %zu walls, %zu materials)\n", scenario_path.c_str(), w.particles.size(),
                   w.walls.size(), w.materials.size());
-      if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc)) {
-        const tsubu::InflowColumn c = tsubu::inflow_column(sc, *src);
-        std::printf("  inflow: F = %.6g kg/s, %.6g grains/s, phi_0 = %g, Q = F t_f = %.6g kg (t_f = %.6g s), u_r = %.6g m/s, z_c = %g m\n",
-                    c.mass_flux(), c.grains_per_second(), c.solid_fraction, c.flux_number(), c.free_fall_time(), c.speed,
-                    c.entry_height);
-      }
+      if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
+        for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
       return 0;
     }
     // Until the time loop inserts the stream's grains (source/inflow.hpp) and evaluates the

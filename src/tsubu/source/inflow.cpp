@@ -156,6 +156,21 @@ void InflowStream::restore(const State& s) {
   state_ = s;
 }
 
+std::vector<std::pair<std::string, double>> inflow_rates(const InflowColumn& c) {
+  return {{"inflow_F", c.mass_flux()},     {"inflow_grains_per_s", c.grains_per_second()},
+          {"inflow_phi_0", c.solid_fraction}, {"inflow_Q", c.flux_number()},
+          {"inflow_t_f", c.free_fall_time()}, {"inflow_u_r", c.speed},
+          {"inflow_z_c", c.entry_height}};
+}
+
+std::vector<std::pair<std::string, double>> inflow_counts(const InflowStream::State& s) {
+  return {{"inflow_released", static_cast<double>(s.released)},
+          {"inflow_mass_released", s.mass_released},
+          {"inflow_delays", static_cast<double>(s.delays)},
+          {"inflow_delayed_grains", static_cast<double>(s.delayed_grains)},
+          {"inflow_waiting", static_cast<double>(s.waiting.size())}};
+}
+
 namespace {
 
 constexpr char kStateMagic[8] = {'T', 'S', 'I', 'N', 'F', 'L', 'O', '1'};

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "tsubu/core/vec3.hpp"
@@ -112,6 +113,13 @@ class InflowStream {
   std::vector<Placed> band(std::int64_t k) const;
   void fill(std::uint64_t region, double lo, double hi, SphereGrid& grid, std::vector<Placed>& out) const;
 };
+
+// Named values for run.json and `tsubu check` (units in docs/sedimentation.md): the column's
+// inflow_F (kg/s), inflow_grains_per_s, inflow_phi_0, inflow_Q, inflow_t_f (s), inflow_u_r
+// (m/s) and inflow_z_c (m); and the stream's inflow_released, inflow_mass_released (kg),
+// inflow_delays, inflow_delayed_grains and inflow_waiting.
+std::vector<std::pair<std::string, double>> inflow_rates(const InflowColumn& c);
+std::vector<std::pair<std::string, double>> inflow_counts(const InflowStream::State& s);
 
 // The stream's state as bytes (native byte order, like the checkpoint) and back; decoding
 // throws std::runtime_error on bytes that are not a whole state.
