@@ -161,6 +161,16 @@ TEST(Inflow, MassLimitStopsTheColumn) {
   EXPECT_LE(s.state().mass_released, c.mass_limit);
 }
 
+TEST(Inflow, EntryNeighboursAreWhatAnEnteringGrainCanTouch) {
+  const Domain box{{0, 0, 0}, {0.04, 0.04, 0.1}, {true, true, false}};
+  const std::vector<Vec3> x = {{0.001, 0.02, 0.075}, {0.02, 0.02, 0.02}};  // near the entry plane; deep in the box
+  const std::vector<double> r = {0.005, 0.005};
+  const SphereGrid near = entry_neighbours(box, x, r, 0.08, 0.005);
+  EXPECT_EQ(near.size(), 1u);
+  EXPECT_TRUE(near.overlaps({0.039, 0.02, 0.08}, 0.005));  // across the periodic x side
+  EXPECT_FALSE(near.overlaps({0.02, 0.02, 0.08}, 0.005));
+}
+
 TEST(Inflow, CrowdedEntryDelaysGrainsWithoutDroppingOrOverlapping) {
   const InflowColumn c = column(0.1, single(0.01));
   InflowStream s(c, 8);

@@ -1,9 +1,11 @@
 // Scenario keys of the sedimentation experiment: the inflow source (no grains at the start,
 // Rubey's speed by default, `tsubu check` reports its flux) and the deposit analyses.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 
@@ -39,6 +41,13 @@ TEST(SedimentScenario, CheckPrintsTheInflowRates) {
   EXPECT_NE(out.find("  inflow_F = 0.139"), std::string::npos) << out;
   for (const char* word : {"inflow_grains_per_s = ", "inflow_phi_0 = 0.1\n", "inflow_Q = "})
     EXPECT_NE(out.find(word), std::string::npos) << out;
+}
+
+TEST(SedimentScenario, RunRefusesWhatTheTimeLoopDoesNotDoYet) {
+  const std::string out = ::testing::TempDir() + "tsubu_sediment_run";
+  const int status = std::system((std::string(TSUBU_BINARY) + " run " + kScenario + " --out " + out + " 2>/dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
 }
 
 TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {

@@ -223,27 +223,32 @@ InflowStream::State decode_inflow_state(std::string_view in) {
   return s;
 }
 
+SphereGrid entry_neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
+                            double lowest, double entering_radius) {
+  std::vector<std::size_t> near;
+  double r_max = entering_radius, top = lowest;
+  for (std::size_t i = 0; i < position.size(); ++i)
+    if (position[i].z + radius[i] > lowest - entering_radius) {
+      near.push_back(i);
+      r_max = std::max(r_max, radius[i]);
+      top = std::max(top, position[i].z);
+    }
+  SphereGrid grid(domain, {domain.lower.x, domain.lower.y, lowest - entering_radius - r_max},
+                  {domain.upper.x, domain.upper.y, top + r_max}, {domain.periodic[0], domain.periodic[1], false},
+                  entering_radius + r_max);
+  for (std::size_t i : near) grid.add(position[i], radius[i]);
+  return grid;
+}
+
 Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
                     std::int64_t first_id) {
   Admission a;
-  std::vector<NewGrain> due = stream.due(t);
+  const std::vector<NewGrain> due = stream.due(t);
   if (due.empty()) return a;
   const InflowColumn& c = stream.column();
-  const double r_in = 0.5 * c.sizes.largest();
-  double lowest = c.entry_height;  // the lowest centre of a due grain
+  double lowest = c.entry_height;
   for (const NewGrain& g : due) lowest = std::min(lowest, stream.position(g, t).z);
-  // Particles that a due grain could touch: their top within r_in of the lowest due centre.
-  std::vector<std::size_t> near;
-  double r_max = r_in, top = c.entry_height;
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    if (particles.position[i].z + particles.radius[i] > lowest - r_in) {
-      near.push_back(i);
-      r_max = std::max(r_max, particles.radius[i]);
-      top = std::max(top, particles.position[i].z);
-    }
-  SphereGrid grid(domain, {domain.lower.x, domain.lower.y, lowest - r_in - r_max},
-                  {domain.upper.x, domain.upper.y, top + r_max}, {domain.periodic[0], domain.periodic[1], false}, r_in + r_max);
-  for (std::size_t i : near) grid.add(particles.position[i], particles.radius[i]);
+  SphereGrid grid = entry_neighbours(domain, particles.position, particles.radius, lowest, 0.5 * c.sizes.largest());
   for (const NewGrain& g : due) {
     const Vec3 x = stream.position(g, t);
     if (grid.overlaps(x, 0.5 * g.diameter)) {

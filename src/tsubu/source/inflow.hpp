@@ -17,19 +17,19 @@
 // kept with the probability (target - volume so far)/its volume.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "tsubu/core/vec3.hpp"
+#include "tsubu/search/sphere_grid.hpp"
 #include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
 namespace tsubu {
-
-class SphereGrid;
 
 struct InflowColumn {
   double x_low = 0, y_low = 0, length_x = 0, length_y = 0;  // the base: the box's x-y extent, m
@@ -125,6 +125,13 @@ std::vector<std::pair<std::string, double>> inflow_counts(const InflowStream::St
 // throws std::runtime_error on bytes that are not a whole state.
 std::string encode_inflow_state(const InflowStream::State& s);
 InflowStream::State decode_inflow_state(std::string_view bytes);
+
+// The particles that an entering grain could overlap: those reaching above
+// lowest - entering_radius, where `lowest` is the lowest centre height of the grains about to
+// enter and `entering_radius` their largest radius. Ask overlaps(x, r) for each grain and
+// add() each one inserted; the domain gives the periodic sides.
+SphereGrid entry_neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
+                            double lowest, double entering_radius);
 
 // What admit_due() did at one time.
 struct Admission {
