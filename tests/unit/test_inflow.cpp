@@ -149,6 +149,9 @@ TEST(Inflow, SameSeedSameGrainsAndRestoredStreamContinuesBitIdentically) {
     for (std::size_t k = 0; k < x.size(); ++k) ASSERT_TRUE(same_bits(x[k], y[k])) << "t = " << t;
   }
   EXPECT_THROW(decode_inflow_state(bytes.substr(0, bytes.size() - 1)), std::runtime_error);
+  InflowStream::State bad = restored.state();
+  bad.next = 1 << 30;
+  EXPECT_THROW(restored.restore(bad), std::runtime_error);
 }
 
 TEST(Inflow, MassLimitStopsTheColumn) {

@@ -148,6 +148,7 @@ void InflowStream::delay(NewGrain g) {
 }
 
 void InflowStream::restore(const State& s) {
+  if (s.slab < 0) throw std::runtime_error("inflow state: slab " + std::to_string(s.slab) + " does not exist");
   std::vector<Placed> restored = slab(s.slab);
   if (s.next < 0 || s.next > static_cast<std::int64_t>(restored.size()))
     throw std::runtime_error("inflow state: grain " + std::to_string(s.next) + " of slab " + std::to_string(s.slab) +
