@@ -23,26 +23,20 @@ double sphere_slab_volume(double z0, double r, double a, double b) {
   return primitive(hi) - primitive(lo);
 }
 
-double solid_fraction(const World& w, double a, double b) {
-  const Particles& p = w.particles;
-  double solid = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) solid += sphere_slab_volume(p.position[i].z, p.radius[i], a, b);
-  return solid / (w.domain.length(0) * w.domain.length(1) * (b - a));
-}
+Packing packing_of(const World& w) { return {w.domain, w.particles.position, w.particles.radius}; }
 
-double coordination(const World& w, double a, double b, bool without_rattlers) {
-  const Particles& p = w.particles;
-  std::vector<int> z(p.size(), 0);
+std::vector<int> pair_contact_counts(const World& w) {
+  std::vector<int> z(w.particles.size(), 0);
   for (const Contact& c : w.pair_contacts)
     if (c.touching) ++z[c.i], ++z[c.j];
-  long contacts = 0, particles = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double h = p.position[i].z;
-    if (h <= a || h >= b || (without_rattlers && z[i] < 2)) continue;
-    contacts += z[i];
-    ++particles;
-  }
-  return particles ? static_cast<double>(contacts) / static_cast<double>(particles) : 0.0;
+  return z;
+}
+
+double solid_fraction(const World& w, double a, double b) { return solid_fraction(packing_of(w), a, b); }
+
+double coordination(const World& w, double a, double b, bool without_rattlers) {
+  const Coordination c = coordination_numbers(w.particles.position, pair_contact_counts(w), a, b);
+  return without_rattlers ? c.without_rattlers_2 : c.all;
 }
 
 }  // namespace tsubu

@@ -1,5 +1,8 @@
 // Measurements on the current state: energies and packing statistics.
 #pragma once
+#include <vector>
+
+#include "tsubu/analysis/deposit.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -14,6 +17,12 @@ Energies energies(const World& w);
 
 // Volume of the sphere (centre height z0, radius r) between the planes z = a and z = b.
 double sphere_slab_volume(double z0, double r, double a, double b);
+
+// The world's grains as a Packing (deposit.hpp), for the deposit measurements.
+Packing packing_of(const World& w);
+
+// Particle-particle contacts (touching pairs, walls excluded) of each particle.
+std::vector<int> pair_contact_counts(const World& w);
 
 // Solid fraction of the slab a < z < b over the full x-y cross-section of the domain,
 // from the exact sphere-slab volumes.

@@ -1,5 +1,6 @@
 // Scenario loading: TOML -> checked plain structs. Keys are documented in docs/scenario.md;
 // keep the two in step.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -273,8 +274,14 @@ SizeDistribution read_distribution(Section s) {
     d.diameter = s.positive("diameter");
   } else if (type == "uniform" || type == "talbot") {
     d.kind = type == "uniform" ? SizeDistribution::Kind::uniform : SizeDistribution::Kind::talbot;
-    d.d_min = s.positive("d_min");
-    d.d_max = s.positive("d_max");
+    if (type == "talbot" && s.has("spread")) {  // Sigma = ln(d_max/d_min), the paper's spread
+      if (s.has("d_min")) s.fail("spread", "give either d_min or spread = ln(d_max/d_min), not both");
+      d.d_max = s.positive("d_max");
+      d.d_min = d.d_max * std::exp(-s.positive("spread"));
+    } else {
+      d.d_min = s.positive("d_min");
+      d.d_max = s.positive("d_max");
+    }
     if (!(d.d_max > d.d_min)) s.fail("d_max", "must be larger than d_min");
     if (type == "talbot") d.exponent = s.real("exponent");
   } else {
@@ -300,10 +307,53 @@ void read_region(Section& s, ParticleSource& src, const Domain& domain) {
   src.velocity = s.vec3("velocity", {});
 }
 
+SizeDistribution required_distribution(Section& s, const std::string& kind) {
+  auto dist = s.table("distribution");
+  if (!dist) s.fail("distribution", "is required for source = \"" + kind + "\", e.g. { type = \"single\", diameter = 0.002 }");
+  return read_distribution(*dist);
+}
+
+// The virtual column of the sedimentation experiment (spec/sedimentation.md section 2).
+void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
+  src.kind = ParticleSource::Kind::inflow;
+  for (const ParticleSource& other : sc.sources)
+    if (other.kind == ParticleSource::Kind::inflow)
+      s.fail("source", "a scenario has at most one inflow source (another one is at line " + std::to_string(other.where.line) + ")");
+  const Domain& box = sc.domain;
+  if (!box.periodic[0] || !box.periodic[1])
+    s.fail("source", "\"inflow\" needs a domain periodic in x and y (the column's sides wrap): domain.periodic = [\"x\", \"y\"]");
+  if (sc.gravity.x != 0 || sc.gravity.y != 0 || sc.gravity.z > 0)
+    s.fail("source", "\"inflow\" falls along -z: simulation.gravity must point along -z (or be zero)");
+  src.solid_fraction = s.positive("solid_fraction");
+  if (src.solid_fraction > 0.3)
+    s.fail("solid_fraction", "the column's phi_0; its random placement slows near jamming (0.38 for one size): allowed (0, 0.3]" +
+                                 got(src.solid_fraction));
+  src.sizes = required_distribution(s, "inflow");
+  const double d_max = src.sizes.largest();
+  src.entry_height = s.real("entry_height", box.lower.z + 2 * box.length(0));
+  if (!(src.entry_height - 0.5 * d_max > box.lower.z && src.entry_height + 0.5 * d_max <= box.upper.z))
+    s.fail("entry_height", "the entering grains must lie inside the domain: allowed (" + num(box.lower.z + 0.5 * d_max) + ", " +
+                               num(box.upper.z - 0.5 * d_max) + "] m, a largest radius inside the domain (the default is 2 L above domain.lower.z)" +
+                               got(src.entry_height));
+  const double density = sc.materials[static_cast<std::size_t>(src.material)].density;
+  if (s.has("fall_speed")) {
+    src.fall_speed = s.positive("fall_speed");
+  } else {
+    if (!sc.fluid.enabled)
+      s.fail("fall_speed", "is required without [fluid]: the default, Rubey's settling speed, needs the fluid's density and viscosity");
+    if (!(sc.fluid.density < density) || !(norm(sc.gravity) > 0))
+      s.fail("fall_speed", "is required here: the default, Rubey's settling speed, needs gravity and grains denser than the fluid");
+    src.fall_speed = rubey_speed(density, sc.fluid.density, sc.fluid.viscosity, d_max, norm(sc.gravity));
+  }
+  src.mass_limit = s.has("mass_limit") ? s.positive("mass_limit") : 0.0;
+  src.omega_star_rms = s.real("omega_star_rms", 0.0);
+  if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
+}
+
 void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {
   ParticleSource src;
   src.where = {s.file(), s.line(), s.path()};
-  const std::string kind = s.choice("source", {"csv", "lattice", "random"}, std::nullopt);
+  const std::string kind = s.choice("source", {"csv", "lattice", "random", "inflow"}, std::nullopt);
   src.material = material_index(sc, s, "material");
   if (kind == "csv") {
     src.kind = ParticleSource::Kind::csv;
@@ -318,15 +368,15 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     src.diameter = s.positive("diameter");
     src.spacing = s.positive("spacing", src.diameter);
     if (src.spacing < src.diameter) s.fail("spacing", "must be at least the diameter " + num(src.diameter) + " m (particles would overlap)" + got(src.spacing));
-  } else {
+  } else if (kind == "random") {
     src.kind = ParticleSource::Kind::random;
     read_region(s, src, sc.domain);
     src.solid_fraction = s.positive("solid_fraction");
     if (src.solid_fraction > 0.4)
       s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]" + got(src.solid_fraction));
-    auto dist = s.table("distribution");
-    if (!dist) s.fail("distribution", "is required for source = \"random\", e.g. { type = \"single\", diameter = 0.002 }");
-    src.sizes = read_distribution(*dist);
+    src.sizes = required_distribution(s, kind);
+  } else {
+    read_inflow(s, src, sc);
   }
   s.finish();
   sc.sources.push_back(src);
@@ -385,19 +435,62 @@ void read_fluid(Section s, Scenario& sc) {
   s.finish();
 }
 
+// The largest diameter the scenario's generated sources can hold (0 with CSV files only).
+double largest_generated(const Scenario& sc) {
+  double d = 0;
+  for (const ParticleSource& src : sc.sources)
+    d = std::max(d, src.kind == ParticleSource::Kind::lattice ? src.diameter
+                    : src.kind == ParticleSource::Kind::csv   ? 0.0
+                                                              : src.sizes.largest());
+  return d;
+}
+
 void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
-  const std::string type = s.choice("type", {"solid_fraction", "coordination"}, std::nullopt);
-  a.kind = type == "solid_fraction" ? AnalysisSpec::Kind::solid_fraction : AnalysisSpec::Kind::coordination;
+  using Kind = AnalysisSpec::Kind;
+  const std::string type =
+      s.choice("type", {"solid_fraction", "coordination", "deposit_height", "porosity", "segregation"}, std::nullopt);
+  a.kind = type == "solid_fraction" ? Kind::solid_fraction
+           : type == "coordination" ? Kind::coordination
+           : type == "deposit_height" ? Kind::deposit_height
+           : type == "porosity"       ? Kind::porosity
+                                      : Kind::segregation;
   a.name = s.text("name", type);
-  const auto z = s.reals("z_range");
-  if (z.size() != 2 || !(z[1] > z[0])) s.fail("z_range", "must be [z_low, z_high] with z_high > z_low");
-  a.z_low = z[0];
-  a.z_high = z[1];
-  for (const auto& other : sc.analyses)
-    if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
+  // The spec's measures take the box's x length as L and heights from domain.lower.z.
+  const double L = sc.domain.length(0), floor = sc.domain.lower.z;
+  if (a.kind == Kind::deposit_height) {
+    a.slices.floor = s.real("floor", floor);
+    a.slices.slice = s.positive("slice", 0.1 * L);
+    const std::int64_t slices = s.integer("slices", 10);
+    if (slices < 1 || slices > 1000000) s.fail("slices", "allowed 1 to 1000000, got " + std::to_string(slices));
+    a.slices.slices = static_cast<int>(slices);
+    a.slices.threshold = s.real("threshold", 0.6);
+    if (!(a.slices.threshold > 0 && a.slices.threshold < 1)) s.fail("threshold", "is a solid fraction: allowed (0, 1)" + got(a.slices.threshold));
+  } else {
+    const auto z = a.kind == Kind::porosity && !s.has("z_range") ? std::vector<double>{floor + 0.15 * L, floor + 0.35 * L}
+                                                                 : s.reals("z_range");
+    if (z.size() != 2 || !(z[1] > z[0])) s.fail("z_range", "must be [z_low, z_high] with z_high > z_low");
+    a.z_low = z[0];
+    a.z_high = z[1];
+  }
+  if (a.kind == Kind::porosity) {
+    a.points = static_cast<long>(s.integer("points", a.points));
+    if (a.points < 1) s.fail("points", "must be >= 1 (65536 give a standard error below 0.002)" + got(static_cast<double>(a.points)));
+    const std::int64_t seed = s.integer("seed", static_cast<std::int64_t>(sc.seed));
+    if (seed < 0) s.fail("seed", "must be >= 0");
+    a.seed = static_cast<std::uint64_t>(seed);
+  }
+  if (a.kind == Kind::segregation) {
+    const double third = largest_generated(sc) / 3;
+    if (third == 0 && !s.has("small_diameter"))
+      s.fail("small_diameter", "is required when no source gives a largest diameter (CSV files only): grains below it count as small");
+    a.small_diameter = s.positive("small_diameter", third);
+  }
+  for (const auto* list : {&sc.analyses, &sc.deposit_analyses})
+    for (const auto& other : *list)
+      if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
   s.finish();
-  sc.analyses.push_back(a);
+  (a.kind == Kind::solid_fraction || a.kind == Kind::coordination ? sc.analyses : sc.deposit_analyses).push_back(a);
 }
 
 void read_search(Section s, Scenario& sc) {

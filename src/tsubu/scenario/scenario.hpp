@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "tsubu/analysis/deposit.hpp"
 #include "tsubu/contact/law.hpp"
 #include "tsubu/fluid/fluid.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
@@ -23,7 +24,7 @@ struct SourceLocation {
 };
 
 struct ParticleSource {
-  enum class Kind { csv, lattice, random };
+  enum class Kind { csv, lattice, random, inflow };
   Kind kind = Kind::csv;
   SourceLocation where;
   int material = 0;
@@ -32,9 +33,14 @@ struct ParticleSource {
   Vec3 lower, upper;               // lattice, random: region, m
   double diameter = 0;             // lattice, m
   double spacing = 0;              // lattice, m
-  double solid_fraction = 0;       // random
-  SizeDistribution sizes;          // random
+  double solid_fraction = 0;       // random; inflow: phi_0 of the virtual column
+  SizeDistribution sizes;          // random, inflow
   Vec3 velocity;                   // lattice, random: initial velocity, m/s
+  // inflow (spec/sedimentation.md section 2): grains arrive during the run, none at the start
+  double entry_height = 0;    // z_c, m
+  double fall_speed = 0;      // u_r, m/s: as given, or Rubey's speed of the largest grain
+  double mass_limit = 0;      // kg, 0: none
+  double omega_star_rms = 0;  // Omega*_rms of the initial spin
 };
 
 struct PairContactSpec {
@@ -54,10 +60,14 @@ struct OutputSpec {
 };
 
 struct AnalysisSpec {
-  enum class Kind { solid_fraction, coordination };
+  enum class Kind { solid_fraction, coordination, deposit_height, porosity, segregation };
   Kind kind = Kind::solid_fraction;
   std::string name;
   double z_low = 0, z_high = 0;  // m, the measured slab
+  SliceRule slices;              // deposit_height
+  long points = 65536;           // porosity: Monte Carlo points
+  std::uint64_t seed = 1;        // porosity: of the points
+  double small_diameter = 0;     // segregation: grains below it are small, m
 };
 
 struct Scenario {
@@ -83,6 +93,9 @@ struct Scenario {
   std::vector<ParticleSource> sources;
   OutputSpec output;
   std::vector<AnalysisSpec> analyses;
+  // The deposit measurements (deposit_height, porosity, segregation; analysis/results.hpp
+  // evaluates every kind), kept apart until the time loop evaluates them.
+  std::vector<AnalysisSpec> deposit_analyses;
   SearchSpec search{SearchSpec::Method::cell, 0, 1000};  // [search]: contact search method, spatial sort every 1000 steps
 };
 

@@ -1,6 +1,7 @@
 #include "tsubu/source/build_world.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
@@ -58,6 +59,29 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 
 }  // namespace
 
+InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
+  InflowColumn c;
+  c.x_low = sc.domain.lower.x;
+  c.y_low = sc.domain.lower.y;
+  c.length_x = sc.domain.length(0);
+  c.length_y = sc.domain.length(1);
+  c.entry_height = src.entry_height;
+  c.speed = src.fall_speed;
+  c.solid_fraction = src.solid_fraction;
+  c.sizes = src.sizes;
+  c.density = sc.materials[static_cast<std::size_t>(src.material)].density;
+  c.mass_limit = src.mass_limit;
+  c.omega_star_rms = src.omega_star_rms;
+  c.gravity = norm(sc.gravity);
+  return c;
+}
+
+const ParticleSource* inflow_source(const Scenario& sc) {
+  for (const ParticleSource& src : sc.sources)
+    if (src.kind == ParticleSource::Kind::inflow) return &src;
+  return nullptr;
+}
+
 World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
@@ -79,6 +103,7 @@ World build_world(const Scenario& sc) {
   std::vector<Grain> grains;
   std::vector<double> tolerance;
   for (const auto& src : sc.sources) {
+    if (src.kind == ParticleSource::Kind::inflow) continue;  // its grains arrive during the run
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
                            : src.kind == ParticleSource::Kind::lattice ? lattice_grains(src)
                                                                        : random_grains(src, sc.domain, rng);
@@ -95,7 +120,10 @@ World build_world(const Scenario& sc) {
       tolerance.push_back(src.kind == ParticleSource::Kind::csv ? src.overlap_tolerance : 1e-9);
     }
   }
-  const double d_max = 2 * *std::max_element(w.particles.radius.begin(), w.particles.radius.end());
+  double d_max = 2 * std::accumulate(w.particles.radius.begin(), w.particles.radius.end(), 0.0,
+                                     [](double a, double b) { return std::max(a, b); });
+  for (const auto& src : sc.sources)
+    if (src.kind == ParticleSource::Kind::inflow) d_max = std::max(d_max, src.sizes.largest());
   for (int k = 0; k < 3; ++k)
     if (sc.domain.periodic[k] && sc.domain.length(k) < 2 * d_max) {
       std::ostringstream s;

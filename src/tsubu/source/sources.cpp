@@ -1,16 +1,17 @@
 #include "tsubu/source/sources.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <unordered_map>
 
 #include <unistd.h>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/search/sphere_grid.hpp"
 
 namespace tsubu {
 
@@ -118,18 +119,10 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
                        too_many(target / (volume / static_cast<double>(diameters.size()))));
   }
   std::sort(diameters.rbegin(), diameters.rend());
-  const double cell = diameters.front();
-  bool wrap[3];
-  int cells[3];
-  for (int k = 0; k < 3; ++k) {
+  std::array<bool, 3> wrap;
+  for (int k = 0; k < 3; ++k)
     wrap[k] = domain.periodic[k] && src.lower[k] == domain.lower[k] && src.upper[k] == domain.upper[k];
-    cells[k] = std::max(1, static_cast<int>(size[k] / cell));
-  }
-  auto cell_of = [&](const Vec3& x, int k) {
-    return std::clamp(static_cast<int>((x[k] - src.lower[k]) / size[k] * cells[k]), 0, cells[k] - 1);
-  };
-  std::unordered_map<long, std::vector<std::size_t>> grid;
-  auto key = [&](int i, int j, int k) { return (static_cast<long>(k) * cells[1] + j) * cells[0] + i; };
+  SphereGrid placed_grains(domain, src.lower, src.upper, wrap, diameters.front());
   std::vector<Grain> out;
   for (std::size_t n = 0; n < diameters.size(); ++n) {
     const double d = diameters[n], r = 0.5 * d;
@@ -138,31 +131,8 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
       Vec3 x;
       for (int k = 0; k < 3; ++k)
         x[k] = wrap[k] ? rng.uniform(src.lower[k], src.upper[k]) : rng.uniform(src.lower[k] + r, src.upper[k] - r);
-      bool free = true;
-      const int c[3] = {cell_of(x, 0), cell_of(x, 1), cell_of(x, 2)};
-      for (int dk = -1; dk <= 1 && free; ++dk)
-        for (int dj = -1; dj <= 1 && free; ++dj)
-          for (int di = -1; di <= 1 && free; ++di) {
-            int ci[3] = {c[0] + di, c[1] + dj, c[2] + dk};
-            bool skip = false;
-            for (int k = 0; k < 3; ++k) {
-              if (wrap[k]) ci[k] = (ci[k] + cells[k]) % cells[k];
-              else if (ci[k] < 0 || ci[k] >= cells[k]) skip = true;
-            }
-            if (skip) continue;
-            auto it = grid.find(key(ci[0], ci[1], ci[2]));
-            if (it == grid.end()) continue;
-            for (std::size_t m : it->second) {
-              const double reach = r + 0.5 * out[m].diameter;
-              if (norm2(domain.separation(x, out[m].position)) < reach * reach) {
-                free = false;
-                break;
-              }
-            }
-          }
-      if (!free) continue;
-      // With fewer than 3 cells along a wrapped axis the stencil repeats cells; harmless.
-      grid[key(c[0], c[1], c[2])].push_back(out.size());
+      if (placed_grains.overlaps(x, r)) continue;
+      placed_grains.add(x, r);
       out.push_back({x, src.velocity, d, src.where});
       placed = true;
     }

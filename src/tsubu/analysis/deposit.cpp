@@ -1,0 +1,83 @@
+#include "tsubu/analysis/deposit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/random.hpp"
+#include "tsubu/search/sphere_grid.hpp"
+
+namespace tsubu {
+
+double solid_volume(const Packing& p, double a, double b) {
+  double solid = 0;
+  for (std::size_t i = 0; i < p.position.size(); ++i) solid += sphere_slab_volume(p.position[i].z, p.radius[i], a, b);
+  return solid;
+}
+
+double solid_fraction(const Packing& p, double a, double b) { return solid_volume(p, a, b) / (p.base_area() * (b - a)); }
+
+long grains_in_slab(std::span<const Vec3> position, double a, double b) {
+  return std::count_if(position.begin(), position.end(), [&](const Vec3& x) { return x.z > a && x.z < b; });
+}
+
+double deposit_height(const Packing& p, const SliceRule& rule) {
+  for (int k = rule.slices; k >= 1; --k)
+    if (solid_fraction(p, rule.floor, rule.floor + k * rule.slice) > rule.threshold) return k * rule.slice;
+  return 0;
+}
+
+PorosityEstimate porosity_monte_carlo(const Packing& p, double a, double b, long points, std::uint64_t seed) {
+  const Domain& d = p.domain;
+  double r_max = 0;
+  for (std::size_t i = 0; i < p.position.size(); ++i)
+    if (sphere_slab_volume(p.position[i].z, p.radius[i], a, b) > 0) r_max = std::max(r_max, p.radius[i]);
+  PorosityEstimate e;
+  e.points = points;
+  if (r_max == 0) return e;
+  const Vec3 lower{d.lower.x, d.lower.y, a - r_max}, upper{d.upper.x, d.upper.y, b + r_max};
+  SphereGrid grains(d, lower, upper, {d.periodic[0], d.periodic[1], false}, r_max);
+  for (std::size_t i = 0; i < p.position.size(); ++i)
+    if (sphere_slab_volume(p.position[i].z, p.radius[i], a, b) > 0) grains.add(p.position[i], p.radius[i]);
+  Random rng(seed);
+  long solid = 0;
+  for (long n = 0; n < points; ++n) {
+    const Vec3 x{rng.uniform(d.lower.x, d.upper.x), rng.uniform(d.lower.y, d.upper.y), rng.uniform(a, b)};
+    solid += grains.overlaps(x, 0);
+  }
+  e.porosity = 1 - static_cast<double>(solid) / static_cast<double>(points);
+  e.standard_error = std::sqrt(e.porosity * (1 - e.porosity) / static_cast<double>(points));
+  return e;
+}
+
+Coordination coordination_numbers(std::span<const Vec3> position, std::span<const int> pair_contacts, double a, double b) {
+  long sum = 0, sum_2 = 0, sum_4 = 0;
+  Coordination c;
+  for (std::size_t i = 0; i < position.size(); ++i) {
+    if (!(position[i].z > a && position[i].z < b)) continue;
+    const int z = pair_contacts[i];
+    ++c.grains;
+    sum += z;
+    if (z < 2) ++c.rattlers_2;
+    else sum_2 += z;
+    if (z < 4) ++c.rattlers_4;
+    else sum_4 += z;
+  }
+  auto mean = [](long contacts, long grains) { return grains ? static_cast<double>(contacts) / static_cast<double>(grains) : 0.0; };
+  c.all = mean(sum, c.grains);
+  c.without_rattlers_2 = mean(sum_2, c.grains - c.rattlers_2);
+  c.without_rattlers_4 = mean(sum_4, c.grains - c.rattlers_4);
+  return c;
+}
+
+double small_grain_share(const Packing& p, double a, double b, double small_diameter) {
+  double small = 0, all = 0;
+  for (std::size_t i = 0; i < p.position.size(); ++i) {
+    const double v = sphere_slab_volume(p.position[i].z, p.radius[i], a, b);
+    all += v;
+    if (2 * p.radius[i] < small_diameter) small += v;
+  }
+  return all > 0 ? small / all : 0.0;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,71 @@
+// Measurements on a deposit of spheres, after the sedimentation experiment
+// (spec/sedimentation.md section 2; docs/sedimentation.md): deposit height, porosity by
+// Monte Carlo and by exact sphere-slab volumes, coordination with both rattler definitions,
+// and the share of small grains in a layer. Pure functions of positions, radii and contact
+// counts: the box's x-y cross-section is the measured area; grains are whole spheres (a
+// periodic box wraps them across its sides, so only the z limits cut them).
+#pragma once
+#include <cstdint>
+#include <span>
+
+#include "tsubu/core/vec3.hpp"
+#include "tsubu/world/domain.hpp"
+
+namespace tsubu {
+
+// Grains in a box: index-aligned centres and radii.
+struct Packing {
+  Domain domain;
+  std::span<const Vec3> position;  // m
+  std::span<const double> radius;  // m
+
+  double base_area() const { return domain.length(0) * domain.length(1); }
+};
+
+// Solid volume in the slab a < z < b: the sum of the exact sphere-slab volumes (caps).
+double solid_volume(const Packing& p, double a, double b);
+
+// solid_volume over the slab's volume (full x-y cross-section).
+double solid_fraction(const Packing& p, double a, double b);
+
+// Grains with their centre in a < z < b.
+long grains_in_slab(std::span<const Vec3> position, double a, double b);
+
+// The spec's slice rule for the deposit height: slices of `slice` from `floor`; the deposit
+// has reached z_k = floor + k slice once the solid fraction of floor < z < z_k exceeds
+// `threshold`. Returns z_k - floor for the largest such k <= slices (0: none).
+struct SliceRule {
+  double floor = 0;       // m
+  double slice = 0;       // m, 0.1 L in the spec
+  int slices = 10;        // up to floor + 10 slices = L
+  double threshold = 0.6; // solid fraction
+};
+double deposit_height(const Packing& p, const SliceRule& rule);
+
+// Porosity 1 - phi of a < z < b as the fraction of `points` uniformly random points
+// (from the seed) that lie in no grain, with its binomial standard error
+// sqrt(lambda (1 - lambda) / points); 0.25/points bounds its square, so 65536 points give
+// an error below 0.002. Points are tested against the grains near them only (a cell grid).
+struct PorosityEstimate {
+  double porosity = 1;
+  double standard_error = 0;
+  long points = 0;
+};
+PorosityEstimate porosity_monte_carlo(const Packing& p, double a, double b, long points, std::uint64_t seed);
+
+// Mean coordination number Z of the grains with centre in a < z < b from their
+// particle-particle contact counts (walls excluded): all of them, and without rattlers by
+// the geometric definition (fewer than 2 contacts) and by the mechanical one for frictional
+// spheres (fewer than 4). A mean over no grain is 0.
+struct Coordination {
+  double all = 0, without_rattlers_2 = 0, without_rattlers_4 = 0;
+  long grains = 0, rattlers_2 = 0, rattlers_4 = 0;
+};
+Coordination coordination_numbers(std::span<const Vec3> position, std::span<const int> pair_contacts, double a, double b);
+
+// Segregation Gamma: the share of grains with diameter below `small_diameter` (d_max/3 in
+// the spec) in the solid volume of a < z < b (exact slab volumes); 0 for a layer without
+// solid.
+double small_grain_share(const Packing& p, double a, double b, double small_diameter);
+
+}  // namespace tsubu

@@ -1,0 +1,34 @@
+#include "tsubu/analysis/results.hpp"
+
+#include "tsubu/analysis/measures.hpp"
+
+namespace tsubu {
+
+std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w) {
+  const Packing p = packing_of(w);
+  const double grains = static_cast<double>(grains_in_slab(p.position, a.z_low, a.z_high));
+  switch (a.kind) {
+    case AnalysisSpec::Kind::solid_fraction: return {{a.name, solid_fraction(p, a.z_low, a.z_high)}};
+    case AnalysisSpec::Kind::coordination: {
+      const Coordination c = coordination_numbers(p.position, pair_contact_counts(w), a.z_low, a.z_high);
+      return {{a.name, c.all},
+              {a.name + "_no_rattlers", c.without_rattlers_2},
+              {a.name + "_no_rattlers_4", c.without_rattlers_4},
+              {a.name + "_grains", grains}};
+    }
+    case AnalysisSpec::Kind::deposit_height: return {{a.name, deposit_height(p, a.slices)}};
+    case AnalysisSpec::Kind::porosity: {
+      const PorosityEstimate e = porosity_monte_carlo(p, a.z_low, a.z_high, a.points, a.seed);
+      return {{a.name, e.porosity},
+              {a.name + "_standard_error", e.standard_error},
+              {a.name + "_points", static_cast<double>(e.points)},
+              {a.name + "_exact", 1 - solid_fraction(p, a.z_low, a.z_high)},
+              {a.name + "_grains", grains}};
+    }
+    case AnalysisSpec::Kind::segregation:
+      return {{a.name, small_grain_share(p, a.z_low, a.z_high, a.small_diameter)}, {a.name + "_grains", grains}};
+  }
+  return {};
+}
+
+}  // namespace tsubu

@@ -1,0 +1,23 @@
+// The named results of one [[analyses]] entry on the current state (docs/scenario.md,
+// [[analyses]]), for run.json and series.csv: every kind, the deposit measures included.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// (name, value) pairs: `<name>` first, then `<name>_<detail>` values:
+//   solid_fraction: <name>;
+//   coordination: <name>, <name>_no_rattlers (fewer than 2 contacts left out),
+//                 <name>_no_rattlers_4 (fewer than 4), <name>_grains;
+//   deposit_height: <name> (m above the floor);
+//   porosity: <name> (Monte Carlo), <name>_standard_error, <name>_points, <name>_exact,
+//             <name>_grains (centres in the slab);
+//   segregation: <name> (Gamma, the small grains' share of the solid volume), <name>_grains.
+std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w);
+
+}  // namespace tsubu

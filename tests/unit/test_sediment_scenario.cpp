@@ -1,0 +1,83 @@
+// Scenario keys of the sedimentation experiment: the inflow source (no grains at the start,
+// Rubey's speed by default, `tsubu check` reports its flux) and the deposit analyses.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+
+#include "tsubu/analysis/results.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+namespace {
+
+const std::string kScenario = std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/sediment_inflow.toml";
+
+TEST(SedimentScenario, InflowSourceAndItsDefaults) {
+  const Scenario sc = load_scenario(kScenario);
+  const ParticleSource* src = inflow_source(sc);
+  ASSERT_NE(src, nullptr);
+  EXPECT_DOUBLE_EQ(src->sizes.d_min, 0.01 * std::exp(-2.0));  // spread = ln(d_max/d_min) = 2
+  EXPECT_EQ(src->entry_height, 0.08);                          // z_c = 2 L
+  EXPECT_EQ(src->fall_speed, rubey_speed(2650, 1000, 1e-6, 0.01, 9.81));
+  EXPECT_NEAR(src->fall_speed, 0.33, 0.005);  // the spec's Rubey speed of 1 cm quartz
+  EXPECT_EQ(src->omega_star_rms, 0);
+  EXPECT_EQ(build_world(sc).particles.size(), 0u) << "inflow grains arrive during the run";
+  const InflowColumn c = inflow_column(sc, *src);
+  EXPECT_NEAR(c.mass_flux(), 2650 * 0.1 * 0.04 * 0.04 * src->fall_speed, 1e-15);
+}
+
+TEST(SedimentScenario, CheckPrintsTheInflowRates) {
+  FILE* pipe = popen((std::string(TSUBU_BINARY) + " check " + kScenario).c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string out;
+  char buf[512];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
+  EXPECT_EQ(pclose(pipe), 0) << out;
+  EXPECT_NE(out.find("  inflow_F = 0.139"), std::string::npos) << out;
+  for (const char* word : {"inflow_grains_per_s = ", "inflow_phi_0 = 0.1\n", "inflow_Q = "})
+    EXPECT_NE(out.find(word), std::string::npos) << out;
+}
+
+TEST(SedimentScenario, RunRefusesWhatTheTimeLoopDoesNotDoYet) {
+  const std::string out = ::testing::TempDir() + "tsubu_sediment_run";
+  const int status = std::system((std::string(TSUBU_BINARY) + " run " + kScenario + " --out " + out + " 2>/dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+}
+
+TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {
+  const Scenario sc = load_scenario(kScenario);
+  ASSERT_EQ(sc.deposit_analyses.size(), 3u);
+  ASSERT_EQ(sc.analyses.size(), 1u);  // coordination: evaluated by the time loop as before
+  const AnalysisSpec& porosity = sc.deposit_analyses[1];
+  EXPECT_NEAR(porosity.z_low, 0.006, 1e-15);  // 0.15 L
+  EXPECT_NEAR(porosity.z_high, 0.014, 1e-15);  // 0.35 L
+  EXPECT_EQ(porosity.points, 65536);
+  EXPECT_NEAR(sc.deposit_analyses[2].small_diameter, 0.01 / 3, 1e-18);
+  EXPECT_NEAR(sc.deposit_analyses[0].slices.slice, 0.004, 1e-18);
+
+  World w = build_world(sc);  // 10 x 10 x 5 grains of 4 mm on a simple cubic lattice, 0.001 < z < 0.021
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 10; ++i)
+        w.particles.add(w.particles.size(), 0, 0.004, 2650, Vec3{i + 0.5, j + 0.5, k + 0.75} * 0.004, {});
+  std::map<std::string, double> r;
+  for (const AnalysisSpec* a : {&sc.deposit_analyses[0], &sc.deposit_analyses[1], &sc.deposit_analyses[2], &sc.analyses[0]})
+    for (const auto& [name, value] : analysis_results(*a, w)) r[name] = value;
+  EXPECT_NEAR(r["porosity_exact"], 1 - M_PI / 6, 1e-12);  // the slab is two lattice periods
+  EXPECT_NEAR(r["porosity"], r["porosity_exact"], 3 * r["porosity_standard_error"]);
+  EXPECT_EQ(r["porosity_points"], 65536);
+  EXPECT_EQ(r["porosity_grains"], 200);
+  EXPECT_EQ(r["deposit_height"], 0);  // solid fraction 0.52 never exceeds 0.6
+  EXPECT_EQ(r["gamma_upper"], 0);     // no grain below d_max/3
+  EXPECT_EQ(r["coordination_no_rattlers_4"], 0);
+  EXPECT_EQ(r.count("coordination_grains"), 1u);
+}
+
+}  // namespace
+}  // namespace tsubu
