@@ -113,14 +113,14 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
   shift_j.resize(shifts ? n : 0);
 }
 
-void ForceField::compute(World& world) {
+void ForceField::compute(World& world, double fluid_lead) {
   shifts_ = world.laws.corrects_positions();
   const std::int64_t sort_every = world.search.sort_every;
   if (sort_every > 0 && world.step % sort_every == 0) sort(world);
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
-  accumulate(world);
+  accumulate(world, fluid_lead);
 }
 
 std::vector<std::uint32_t> ForceField::sort(World& world) {
@@ -318,7 +318,7 @@ void ForceField::index_contacts(const World& world) {
   count_starts(world.wall_contacts, n, first, wall_start_);
 }
 
-void ForceField::accumulate(World& world) {
+void ForceField::accumulate(World& world, double fluid_lead) {
   Particles& p = world.particles;
   // Each particle gathers its own contacts in ascending contact order, so the sums are the
   // same bits for every thread count (and no two threads write the same particle). Listed
@@ -335,11 +335,13 @@ void ForceField::accumulate(World& world) {
     for (std::size_t i = begin; i < end; ++i) {
       Vec3 force = p.mass[i] * world.gravity, torque, shift;
       if (world.fluid.enabled) {
-        // The still fluid: per particle, from the velocity the integrator has now (the
-        // half-step velocity within velocity Verlet). The added mass is refreshed here too,
-        // so particles added at any time get it.
+        // The still fluid: per particle, at the velocity and spin of the step's end (see
+        // compute()). The added mass is refreshed here too, so particles added at any time
+        // get it.
         const double d = 2 * p.radius[i];
-        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+        Vec3 u = p.velocity[i], w = p.omega[i];
+        if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
+        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, u, w);
         force += fl.force;
         torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);

@@ -42,8 +42,11 @@ class ForceField {
  public:
   // Evaluates every touching contact and sums forces and torques (with gravity) into
   // world.particles. Throws NumericalError when an overlap exceeds world.overlap_limit or
-  // a force is not finite.
-  void compute(World& world);
+  // a force is not finite. The still fluid's forces are taken at the velocity and spin
+  // v + fluid_lead F/m, w + fluid_lead T/I with the previous force and torque: velocity
+  // Verlet, whose velocities are half a step behind here, passes dt/2 (its fluid forces
+  // are then second order in dt; at the half-step velocity they are first order).
+  void compute(World& world, double fluid_lead = 0);
 
   // Block steps (the same lists, laws and gather): evaluates the active particles at the
   // predictor's time from the predicted state of every particle they touch, with the exact
@@ -145,7 +148,7 @@ class ForceField {
     for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
     for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);
   }
-  void accumulate(World& world);
+  void accumulate(World& world, double fluid_lead);
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;
   [[noreturn]] void report_overlap(const World& world) const;

@@ -68,7 +68,7 @@ void velocity_verlet_step(World& world, ForceField& forces) {
   kick_drift(world, 0.5 * world.dt, world.dt);
   ++world.step;
   world.time = static_cast<double>(world.step) * world.dt;
-  forces.compute(world);
+  forces.compute(world, 0.5 * world.dt);
   kick(world.particles, 0.5 * world.dt);
 }
 

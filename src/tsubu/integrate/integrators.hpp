@@ -14,8 +14,10 @@ enum class Integrator { symplectic_euler, velocity_verlet, block_hermite };
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
 void symplectic_euler_step(World& world, ForceField& forces);
 
-// v <- v + F/m dt/2; x <- x + v dt; new forces (velocity-dependent parts use the half-step
-// velocity, as LAMMPS and LIGGGHTS do); v <- v + F/m dt/2.
+// v <- v + F/m dt/2; x <- x + v dt; new forces; v <- v + F/m dt/2. The contacts' damping
+// uses the half-step velocity, as LAMMPS and LIGGGHTS do; the still fluid's forces use the
+// velocity extrapolated to the step's end, v + F/m dt/2 (ForceField::compute), which keeps
+// them second order.
 void velocity_verlet_step(World& world, ForceField& forces);
 
 // One fixed step of symplectic Euler or velocity Verlet.
