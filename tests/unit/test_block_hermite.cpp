@@ -93,7 +93,7 @@ std::vector<double> ratios(World (*make)(double), double t, std::vector<int> ste
 TEST(BlockHermite, FourthOrderOnASettlingGrain) {
   // The fluid's forces are corrected at the corrected velocity (P(EC)^2), so a grain that is
   // already moving converges at fourth order.
-  for (double r : ratios(settling_moving, 0.04, {8, 16, 32}, 1024)) {
+  for (double r : ratios(settling_moving, 0.04, {16, 32, 64}, 2048)) {
     EXPECT_GT(r, 14);
     EXPECT_LT(r, 18);
   }

@@ -107,8 +107,13 @@ FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u,
 
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
                           const Vec3& alpha) {
-  const Load<Dual> l = load<Dual>(fluid, d, {}, DualVec3(u, a), DualVec3(omega, alpha));
-  return {rate(l.force), rate(l.torque)};
+  return fluid_load_with_rate(fluid, d, {}, u, a, omega, alpha).rate;
+}
+
+FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
+                                       const Vec3& omega, const Vec3& alpha) {
+  const Load<Dual> l = load<Dual>(fluid, d, g, DualVec3(u, a), DualVec3(omega, alpha));
+  return {{value(l.force), value(l.torque)}, {rate(l.force), rate(l.torque)}};
 }
 
 double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed) {

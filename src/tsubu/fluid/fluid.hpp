@@ -56,6 +56,13 @@ FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u,
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
                           const Vec3& alpha);
 
+// Both at once (one evaluation on Duals; the values agree with fluid_load to round-off).
+struct FluidLoadWithRate {
+  FluidLoad value, rate;
+};
+FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
+                                       const Vec3& omega, const Vec3& alpha);
+
 // Relaxation time of the drag on a sphere of diameter d and translational mass m moving at
 // `speed` through the still fluid: m / (F_drag/speed), s (infinite without drag).
 double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed);

@@ -189,7 +189,7 @@ void BlockHermite::wake(const World& world, const ForceField& forces, std::int64
         const std::uint32_t w = stack.back();
         stack.pop_back();
         if (is_active_[w]) continue;
-        is_active_[w] = 1;
+        is_active_[w] = w == j ? 2 : 1;  // 2: its new contact woke it (see correct())
         active_.push_back(w);
         ++stats_.wakes;
         forces.for_each_pair_of(world, w, [&](std::uint32_t y, std::uint32_t k) {
@@ -229,12 +229,19 @@ void BlockHermite::correct(World& world, std::int64_t t) {
     // (P(EC)^2 for the fluid), with rates from the evaluated accelerations: fourth order
     // where the fluid alone acts (docs/integrators.md).
     const Vec3 f_c = p.force[i], t_c = p.torque[i];
-    Vec3 v = pred.v, w = pred.w, a1, j1, al1, ad1, a2, a3, b2, b3;
+    // A woken particle's contact began at the end of its step, after a free flight that its
+    // prediction already follows to fourth order: it keeps the prediction (the corrector
+    // would spread the new contact force over the whole step) and starts its next step with
+    // the new force.
+    const bool woken = is_active_[i] == 2;
+    Vec3 v = pred.v, w = pred.w, a1 = pred.a, al1 = pred.alpha, j1, ad1, a2, a3, b2, b3;
     const int passes = world.fluid.enabled ? 2 : 1;
     for (int pass = 0; pass < passes; ++pass) {
-      const FluidLoad fl = fluid_load(world.fluid, 2 * p.radius[i], world.gravity, v, w);
+      // The rates are taken along the accelerations of the pass before (the predicted ones
+      // first): the second pass's are within O(h^3) of the true ones.
+      const FluidLoadWithRate fluid = fluid_load_with_rate(world.fluid, 2 * p.radius[i], world.gravity, v, a1, w, al1);
+      const FluidLoad &fl = fluid.value, &fr = fluid.rate;
       a1 = (f_c + fl.force) / m, al1 = (t_c + fl.torque) / inertia;
-      const FluidLoad fr = fluid_load_rate(world.fluid, 2 * p.radius[i], v, a1, w, al1);
       j1 = (rates_.force[i] + fr.force) / m, ad1 = (rates_.torque[i] + fr.torque) / inertia;
       corrector(state_.acc[i], state_.jerk[i], a1, j1, a2, a3);
       corrector(state_.alpha[i], state_.alpha_dot[i], al1, ad1, b2, b3);
@@ -242,14 +249,14 @@ void BlockHermite::correct(World& world, std::int64_t t) {
       w = pred.w + (h3 / 6.0) * b2 + (h4 / 24.0) * b3;
       if (pass + 1 == passes) p.force[i] = f_c + fl.force, p.torque[i] = t_c + fl.torque;
     }
-    const Vec3 x = world.domain.wrap(pred.x + (h4 / 24.0) * a2 + (h4 * h / 120.0) * a3);
+    const Vec3 x = woken ? pred.x : world.domain.wrap(pred.x + (h4 / 24.0) * a2 + (h4 * h / 120.0) * a3);
     p.position[i] = x;
-    p.velocity[i] = v;
-    p.omega[i] = w;
+    p.velocity[i] = woken ? pred.v : v;
+    p.omega[i] = woken ? pred.w : w;
     state_.acc[i] = a1, state_.jerk[i] = j1, state_.alpha[i] = al1, state_.alpha_dot[i] = ad1;
     state_.time[i] = t;
     // Aarseth's criterion with the derivatives at the step's end; kept in step_bound.
-    rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, a1, j1, a2 + h * a3, a3));
+    if (!woken) rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, a1, j1, a2 + h * a3, a3));
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
@@ -291,7 +298,8 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
   // Particles in touch share the finest wish of their cluster.
   std::vector<std::uint32_t> parent(active_.size());
   std::iota(parent.begin(), parent.end(), 0u);
-  std::vector<std::uint32_t> where(p.size(), UINT32_MAX);
+  std::vector<std::uint32_t>& where = place_in_active_;  // UINT32_MAX outside the active set
+  where.resize(p.size(), UINT32_MAX);
   for (std::uint32_t q = 0; q < active_.size(); ++q) where[active_[q]] = q;
   for (std::uint32_t q = 0; q < active_.size(); ++q)
     forces.for_each_pair_of(world, active_[q], [&](std::uint32_t j, std::uint32_t k) {
@@ -306,6 +314,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     c = std::max(c, wish[q]);
   }
   for (std::uint32_t q = 0; q < active_.size(); ++q) set_level(active_[q], cluster[root(parent, q)]);
+  for (std::uint32_t i : active_) where[i] = UINT32_MAX;
 }
 
 void BlockHermite::advance(World& world, ForceField& forces) {

@@ -66,6 +66,7 @@ class BlockHermite {
   std::vector<std::uint32_t> slot_;                  // index of each particle in its level's list
   std::vector<char> is_active_;
   std::vector<std::uint32_t> active_;
+  std::vector<std::uint32_t> place_in_active_;  // choose_levels' scratch
   std::vector<Vec3> list_positions_;  // where the lists were built (positions predicted to then)
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
