@@ -109,6 +109,37 @@ void BlockHermite::start(World& world, ForceField& forces) {
   active_.clear();
 }
 
+void BlockHermite::particles_added(World& world, std::size_t first) {
+  Particles& p = world.particles;
+  const std::size_t n = p.size();
+  const std::int64_t now = world.step << rules_.levels;
+  state_.resize(n);
+  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  is_active_.resize(n, 0);
+  slot_.resize(n, UINT32_MAX);
+  for (std::size_t i = first; i < n; ++i) {
+    // Untouched: gravity and the fluid alone, and the steps they allow.
+    const double d = 2 * p.radius[i];
+    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
+    const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+    p.force[i] = p.mass[i] * world.gravity + fl.force;
+    p.torque[i] = fl.torque;
+    p.contact_count[i] = 0;
+    state_.time[i] = now;
+    state_.acc[i] = p.force[i] / p.translational_mass[i];
+    state_.alpha[i] = p.torque[i] / p.inertia[i];
+    const FluidLoad rate = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
+    state_.jerk[i] = rate.force / p.translational_mass[i];
+    state_.alpha_dot[i] = rate.torque / p.inertia[i];
+    const double bound = std::min(second_order(rules_.eta_s, state_.acc[i], state_.jerk[i]),
+                                  rules_.eta_tau * drag_relaxation_time(world.fluid, d, p.translational_mass[i], norm(p.velocity[i])));
+    state_.level[i] = static_cast<std::uint8_t>(level_for(bound, world));
+    set_level(static_cast<std::uint32_t>(i), state_.level[i]);
+    ++stats_.evaluations[state_.level[i]];
+  }
+  lists_stale_ = true;  // the lists know nothing of them yet
+}
+
 void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,
                           std::vector<double> list_reach, bool lists_stale, const BlockStepStats& stats) {
   const std::size_t n = world.particles.size();

@@ -21,8 +21,25 @@ void Simulation::advance_to(std::int64_t step) {
   while (world_.step < step) this->step();
 }
 
+void Simulation::particles_added(std::size_t first) {
+  if (block_) {
+    block_->particles_added(world_, first);
+    return;
+  }
+  Particles& p = world_.particles;
+  for (std::size_t i = first; i < p.size(); ++i) {
+    const double d = 2 * p.radius[i];
+    const FluidLoad fl = fluid_load(world_.fluid, d, world_.gravity, p.velocity[i], p.omega[i]);
+    p.translational_mass[i] = p.mass[i] + world_.fluid.added_mass_of(d);
+    p.force[i] = p.mass[i] * world_.gravity + fl.force;
+    p.torque[i] = fl.torque;
+    p.contact_count[i] = 0;
+  }
+}
+
 std::uint64_t Simulation::particle_force_evaluations() const {
   if (block_) return block_->particle_evaluations();
+  // Added particles are counted as if present from the start (an upper bound for inflows).
   return static_cast<std::uint64_t>(world_.particles.size()) * static_cast<std::uint64_t>(world_.step + 1);
 }
 

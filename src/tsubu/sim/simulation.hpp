@@ -24,6 +24,10 @@ class Simulation {
   void step();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);
+  // Particles appended to world().particles between steps (from index `first` on, e.g. by an
+  // inflow) join the run: they must not touch anything; they start with the forces of
+  // gravity and the fluid (and, for block steps, with their own first steps).
+  void particles_added(std::size_t first);
 
   World& world() { return world_; }
   const World& world() const { return world_; }
