@@ -62,8 +62,9 @@ class BlockHermiteBounce : public ::testing::TestWithParam<const char*> {};
 // same time. Bound: |drift| < 1e-4 over 100 bounces, 1e-6 per bounce, an effective restitution
 // within 5e-7 of 1: four orders below the loss of the most elastic real grains (e = 0.99 loses
 // 2 % per bounce), so numerically irrelevant. Measured: linear 1.3e-5 (velocity Verlet
-// 3.3e-3), Hertz 3.8e-5 (velocity Verlet 3.6e-5: Hertz's second derivative is singular at
-// the contact's start and end, which limits a fourth-order scheme there).
+// 3.3e-3), Hertz -4.6e-5 (velocity Verlet -2.9e-5: no better, as Hertz's force has a second
+// derivative that is unbounded at the contact's start and end, where a fourth-order scheme
+// loses its order).
 TEST_P(BlockHermiteBounce, EnergyDriftOverAHundredBounces) {
   const char* normal = GetParam();
   const Bounces block = bounce(Integrator::block_hermite, 1e-3, normal, 100);
