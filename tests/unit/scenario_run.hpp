@@ -11,6 +11,7 @@
 #include "tsubu/contact/force_field.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu::testing {
@@ -18,13 +19,11 @@ namespace tsubu::testing {
 inline World run_test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}, int threads = 1) {
   const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
   omp_set_num_threads(threads);
-  World w = build_world(sc);
-  ForceField f;
-  f.compute(w);
-  const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  for (std::int64_t s = 0; s < steps; ++s) advance(sc.integrator, w, f);
+  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);  // any integrator
+  sim.start();
+  sim.advance_to(std::llround(sc.duration / sc.dt));
   omp_set_num_threads(1);
-  return w;
+  return std::move(sim.world());
 }
 
 inline bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {

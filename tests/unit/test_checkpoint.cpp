@@ -131,6 +131,24 @@ void expect_same_outputs(const fs::path& ref, const fs::path& out) {
 
 std::int64_t newest_step(const fs::path& out) { return read_checkpoint(list_checkpoints(out / "checkpoint").front()).step; }
 
+// `tsubu run scenario --out <dir> sets...` to the end (ref) and again killed by SIGKILL up to
+// `max_delay_ms` after its first checkpoint (cut); the resumed cut ends as ref.
+void expect_sigkill_resume_identical(const fs::path& dir, const fs::path& scenario, const std::vector<std::string>& sets,
+                                     int max_delay_ms) {
+  const fs::path ref = dir / "ref", cut = dir / "cut";
+  auto args = [&](const fs::path& out) {
+    std::vector<std::string> a = {"run", scenario.string(), "--out", out.string()};
+    a.insert(a.end(), sets.begin(), sets.end());
+    return a;
+  };
+  ASSERT_EQ(run(args(ref), dir / "ref.log"), 0) << slurp(dir / "ref.log");
+  const int status = interrupt_after_first_checkpoint(spawn(args(cut), dir / "cut.log"), cut, SIGKILL, max_delay_ms);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir / "cut.log");
+  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(newest_step(cut)));
+  ASSERT_EQ(run({"resume", cut.string()}, dir / "resume.log"), 0) << slurp(dir / "resume.log");
+  expect_same_outputs(ref, cut);
+}
+
 Checkpoint sample_checkpoint() {
   Checkpoint c;
   c.engine_version = "0.1.0";
@@ -276,36 +294,26 @@ TEST(Resume, AfterSigkillTheRunEndsBitIdentical_VelocityVerlet) {
 // springs: the stored forces are used as they are, never recomputed, at the resume.
 TEST(Resume, AfterSigkillTheRunEndsBitIdentical_SymplecticEulerModelP) {
   TempDir dir;
-  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
-  const std::string scenario = (kScenarios / "checkpoint_model_p.toml").string();
-  ASSERT_EQ(run({"run", scenario, "--out", ref.string()}, dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
-  const int status = interrupt_after_first_checkpoint(spawn({"run", scenario, "--out", cut.string()}, dir.path() / "cut.log"),
-                                                      cut, SIGKILL, 600);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir.path() / "cut.log");
-  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(newest_step(cut)));
-  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
-  expect_same_outputs(ref, cut);
+  expect_sigkill_resume_identical(dir.path(), kScenarios / "checkpoint_model_p.toml", {}, 600);
 }
 
 // A moving wall (the piston of the Hooke/Hysteresis demonstration, loading the bed): its
 // plane and velocity are part of the state, and the wall columns of series.csv continue.
 TEST(Resume, AfterSigkillTheRunEndsBitIdentical_MovingWall) {
   TempDir dir;
-  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
-  const fs::path scenario = fs::path(TSUBU_SOURCE_DIR) / "examples" / "piston-hysteresis.toml";
-  const std::vector<std::string> sets = {"--set", "simulation.duration=0.14", "--set", "output.checkpoint_every_steps=2000",
-                                         "--set", "output.vtk_interval=0.02"};
-  auto args = [&](const fs::path& out) {
-    std::vector<std::string> a = {"run", scenario.string(), "--out", out.string()};
-    a.insert(a.end(), sets.begin(), sets.end());
-    return a;
-  };
-  ASSERT_EQ(run(args(ref), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
-  const int status = interrupt_after_first_checkpoint(spawn(args(cut), dir.path() / "cut.log"), cut, SIGKILL, 600);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed; make it longer\n" << slurp(dir.path() / "cut.log");
-  std::printf("newest checkpoint before the kill: step %lld\n", static_cast<long long>(newest_step(cut)));
-  ASSERT_EQ(run({"resume", cut.string()}, dir.path() / "resume.log"), 0) << slurp(dir.path() / "resume.log");
-  expect_same_outputs(ref, cut);
+  expect_sigkill_resume_identical(dir.path(), fs::path(TSUBU_SOURCE_DIR) / "examples" / "piston-hysteresis.toml",
+                                  {"--set", "simulation.duration=0.14", "--set", "output.checkpoint_every_steps=2000",
+                                   "--set", "output.vtk_interval=0.02"},
+                                  600);
+}
+
+// Block-step Hermite (tests/scenarios/block_sediment.toml: grains settling in water onto a
+// floor, Hertz + Mindlin): the per-particle times, levels, accelerations and jerks, and the
+// neighbour lists as they were built, survive the kill; contacts begin during the run.
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_BlockHermite) {
+  TempDir dir;
+  expect_sigkill_resume_identical(dir.path(), kScenarios / "block_sediment.toml", {}, 600);
+  EXPECT_NE(slurp(dir.path() / "ref" / "run.json").find("\"block_steps\""), std::string::npos);
 }
 
 // SIGTERM (as SIGINT): a checkpoint of the step reached, run.json "interrupted", exit code 4;

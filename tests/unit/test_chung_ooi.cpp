@@ -1,9 +1,12 @@
 // Chung & Ooi (2011) benchmark tests 1-3 (spec/validation.md section C), through the full
-// engine: contact search, force field and velocity Verlet.
+// engine: contact search, force field and velocity Verlet; then the same checks through the
+// block-step Hermite integrator (docs/integrators.md), with dt as its largest step.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
+#include "tsubu/sim/simulation.hpp"
 #include "world_builder.hpp"
 
 namespace tsubu {
@@ -14,13 +17,17 @@ using testing::spec_of;
 
 struct ImpactRecord {
   double peak_force = 0, max_overlap = 0, contact_time = 0, restitution = 0;
+  std::uint64_t evaluations = 0;  // single-particle force evaluations of the whole run
 };
 
-// Steps until the pair (or the sphere and the wall) has touched and separated again.
+// Steps of dt until the pair (or the sphere and the wall) has touched and separated again,
+// observed at the ends of dt (where block steps have every particle at the same time).
 // The restitution is the ratio of the normal relative speeds after/before.
-ImpactRecord record_impact(World& w, bool wall) {
-  ForceField f;
-  f.compute(w);
+ImpactRecord record_impact(World world, bool wall, Integrator integrator) {
+  Simulation sim(std::move(world), integrator, BlockStepRules{});  // the default step rules
+  sim.start();
+  const World& w = sim.world();
+  const ForceField& f = sim.forces();
   const Particles& p = w.particles;
   auto normal_speed = [&] { return wall ? -p.velocity[0].z : p.velocity[0].x - p.velocity[1].x; };
   const double v_in = normal_speed();
@@ -28,7 +35,7 @@ ImpactRecord record_impact(World& w, bool wall) {
   bool touched = false;
   int steps_in_contact = 0;
   for (int s = 0; s < 10000000; ++s) {
-    velocity_verlet_step(w, f);
+    sim.step();
     const bool touching = f.totals(w).contacts > 0;
     if (touching) {
       touched = true;
@@ -41,33 +48,62 @@ ImpactRecord record_impact(World& w, bool wall) {
   }
   r.contact_time = steps_in_contact * w.dt;
   r.restitution = -normal_speed() / v_in;
+  r.evaluations = sim.particle_force_evaluations();
   return r;
 }
 
-ImpactRecord head_on(const Material& m, double radius, double speed, const ContactSpec& spec, double dt) {
+ImpactRecord head_on(const Material& m, double radius, double speed, const ContactSpec& spec, double dt,
+                     Integrator integrator = Integrator::velocity_verlet) {
   World w = make_world(m, spec, dt);
   w.particles.add(0, 0, 2 * radius, m.density, {-radius - speed * 2 * dt, 0, 0}, {speed, 0, 0});
   w.particles.add(1, 0, 2 * radius, m.density, {radius + speed * 2 * dt, 0, 0}, {-speed, 0, 0});
-  return record_impact(w, false);
+  return record_impact(std::move(w), false, integrator);
 }
 
-ImpactRecord on_rigid_plane(const Material& m, double radius, double speed, const ContactSpec& spec, double dt) {
+ImpactRecord on_rigid_plane(const Material& m, double radius, double speed, const ContactSpec& spec, double dt,
+                            Integrator integrator = Integrator::velocity_verlet) {
   World w = make_world(m, spec, dt);
   testing::add_wall_material(w, {"rigid", 1, 1e30, 0.0}, spec);
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 1});
   w.particles.add(0, 0, 2 * radius, m.density, {0, 0, radius + speed * 2 * dt}, {0, 0, -speed});
-  return record_impact(w, true);
+  return record_impact(std::move(w), true, integrator);
+}
+
+// Every test runs with velocity Verlet at its dt, and with block-step Hermite (the default
+// step rules) at the same dt and at 10 dt as its largest step, to the same tolerances. 10 dt
+// still resolves the contact time of test 1 (observed at the ends of dt) to 0.1 us.
+struct Run {
+  Integrator integrator;
+  double dt_scale;
+  const char* name;
+};
+const Run kVerlet{Integrator::velocity_verlet, 1, "velocity_verlet"};
+const Run kBlock{Integrator::block_hermite, 1, "block_hermite"};
+const Run kBlockCoarse{Integrator::block_hermite, 10, "block_hermite_10dt"};
+
+class ChungOoi : public ::testing::TestWithParam<Run> {
+ protected:
+  double dt(double base) const { return base * GetParam().dt_scale; }
+  Integrator integrator() const { return GetParam().integrator; }
+};
+
+void report(const char* test, const ImpactRecord& r) {
+  std::printf("%s: %llu particle force evaluations\n", test, static_cast<unsigned long long>(r.evaluations));
+  ::testing::Test::RecordProperty("particle_force_evaluations", std::to_string(r.evaluations));
 }
 
 // Test 1: two identical spheres, R = 10 mm, +-10 m/s, elastic Hertz.
-TEST(ChungOoi, Test1HeadOnGlass) {
-  const auto r = head_on({"glass", 2800, 48e9, 0.20}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), 1e-8);
+TEST_P(ChungOoi, Test1HeadOnGlass) {
+  const auto r = head_on({"glass", 2800, 48e9, 0.20}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), dt(1e-8), integrator());
+  report("test 1 glass", r);
   EXPECT_NEAR(r.peak_force, 10.70e3, 0.01 * 10.70e3);
   EXPECT_NEAR(r.restitution, 1.0, 1e-6);
 }
 
-TEST(ChungOoi, Test1HeadOnLimestone) {
-  const auto r = head_on({"limestone", 2500, 20e9, 0.25}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), 1e-8);
+TEST_P(ChungOoi, Test1HeadOnLimestone) {
+  const auto r =
+      head_on({"limestone", 2500, 20e9, 0.25}, 0.010, 10.0, spec_of("hertz_tsuji", "none", 1.0), dt(1e-8), integrator());
+  report("test 1 limestone", r);
   EXPECT_NEAR(r.peak_force, 7.11e3, 0.01 * 7.11e3);
   EXPECT_NEAR(r.max_overlap, 0.368e-3, 0.01 * 0.368e-3);
   // Published to two digits (54 us): half a unit of the last digit plus 1 %.
@@ -75,23 +111,28 @@ TEST(ChungOoi, Test1HeadOnLimestone) {
 }
 
 // Test 2: sphere on a rigid plane, R = 0.1 m, 0.2 m/s.
-TEST(ChungOoi, Test2RigidPlaneAluminium) {
-  const auto r = on_rigid_plane({"al", 2699, 70e9, 0.30}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), 1e-7);
+TEST_P(ChungOoi, Test2RigidPlaneAluminium) {
+  const auto r = on_rigid_plane({"al", 2699, 70e9, 0.30}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), dt(1e-7), integrator());
+  report("test 2 aluminium", r);
   EXPECT_NEAR(r.peak_force, 11.37e3, 0.01 * 11.37e3);
 }
 
-TEST(ChungOoi, Test2RigidPlaneMagnesium) {
-  const auto r = on_rigid_plane({"mg", 1800, 40e9, 0.35}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), 1e-7);
+TEST_P(ChungOoi, Test2RigidPlaneMagnesium) {
+  const auto r = on_rigid_plane({"mg", 1800, 40e9, 0.35}, 0.1, 0.2, spec_of("hertz_tsuji", "none", 1.0), dt(1e-7), integrator());
+  report("test 2 magnesium", r);
   EXPECT_NEAR(r.peak_force, 7.23e3, 0.01 * 7.23e3);
 }
 
+INSTANTIATE_TEST_SUITE_P(Integrators, ChungOoi, ::testing::Values(kVerlet, kBlock, kBlockCoarse),
+                         [](const auto& info) { return std::string(info.param.name); });
+
 // Test 3: R = 2.5 mm alumina at 3.9 m/s on a rigid plane with damping: the output restitution
 // equals the input within 2 %, for the linear (C), Hertz-Tsuji (T) and Hooke/Hysteresis (HH)
-// models.
-class ChungOoiTest3 : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+// models (HH is defined on fixed steps only: not with block steps).
+class ChungOoiTest3 : public ::testing::TestWithParam<std::tuple<const char*, double, Run>> {};
 
 TEST_P(ChungOoiTest3, RestitutionMatchesInput) {
-  const auto [model, e] = GetParam();
+  const auto [model, e, run] = GetParam();
   ContactSpec spec = spec_of(model, "none", e);
   spec.stiffness = 1e7;  // N/m for the linear model: contact time ~ 80 us at this mass
   // Hooke/Hysteresis with its plastic part out of reach (delta_lim = 2 * 10 * 2R*, k2 within
@@ -99,13 +140,19 @@ TEST_P(ChungOoiTest3, RestitutionMatchesInput) {
   spec.characteristic_velocity = 3.9;
   spec.max_stiffness_ratio = 2.0;
   spec.plasticity_depth = 10.0;
-  const auto r = on_rigid_plane({"alumina", 4000, 380e9, 0.23}, 2.5e-3, 3.9, spec, 2e-9);
+  const auto r = on_rigid_plane({"alumina", 4000, 380e9, 0.23}, 2.5e-3, 3.9, spec, 2e-9 * run.dt_scale, run.integrator);
+  report("test 3", r);
   EXPECT_NEAR(r.restitution, e, 0.02 * e) << model;
 }
 
+const auto kRestitutions = ::testing::Values(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9);
+
 INSTANTIATE_TEST_SUITE_P(Models, ChungOoiTest3,
-                         ::testing::Combine(::testing::Values("linear", "hertz_tsuji", "hooke_hysteresis"),
-                                            ::testing::Values(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)));
+                         ::testing::Combine(::testing::Values("linear", "hertz_tsuji", "hooke_hysteresis"), kRestitutions,
+                                            ::testing::Values(kVerlet)));
+INSTANTIATE_TEST_SUITE_P(BlockHermite, ChungOoiTest3,
+                         ::testing::Combine(::testing::Values("linear", "hertz_tsuji"), kRestitutions,
+                                            ::testing::Values(kBlock, kBlockCoarse)));
 
 }  // namespace
 }  // namespace tsubu
