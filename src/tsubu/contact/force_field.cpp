@@ -147,10 +147,15 @@ bool ForceField::needs_rebuild(const World& world) const {
   return false;
 }
 
+double ForceField::skin_of(const World& world) {
+  const Particles& p = world.particles;
+  if (world.skin > 0 || p.size() == 0) return world.skin;
+  return 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+}
+
 void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
-  skin_ = world.skin;
-  if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  skin_ = skin_of(world);
   build_lists(world, p, skin_);
   built_at_ = p.position;
   walls_built_at_.clear();
@@ -159,8 +164,7 @@ void ForceField::rebuild(World& world) {
 
 void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach) {
   const Particles& p = world.particles;
-  skin_ = world.skin;
-  if (skin_ <= 0 && p.size() > 0) skin_ = 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  skin_ = skin_of(world);
   Particles probe;
   probe.position = positions;
   probe.radius.resize(p.size());

@@ -70,6 +70,8 @@ class ForceField {
     for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(world.pair_contacts[k].j, k);
   }
   double skin() const { return skin_; }
+  // The neighbour-list margin of a world: world.skin, or a tenth of the smallest diameter.
+  static double skin_of(const World& world);
 
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).

@@ -28,10 +28,15 @@ double time_to_close(double gap, double v, double a) {
 // never below the step it would get on touching.
 template <class Normal>
 double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
-                    double v_approach, double stiffness, double gap, double a_approach) {
+                    double v_approach, const ContactForceRate* now, double gap, double a_approach) {
   const double impact = rules.kappa_c * normal.collision_time(m_eff, r_eff, std::max(v_approach, rules.u_floor));
-  if (touching) return stiffness > 0 ? std::min(impact, rules.kappa_c * M_PI * std::sqrt(m_eff / stiffness)) : impact;
-  return std::max(rules.eta_gap * time_to_close(gap, v_approach, a_approach), impact);
+  if (!touching) return std::max(rules.eta_gap * time_to_close(gap, v_approach, a_approach), impact);
+  // The spring's half period and the dashpot's relaxation time m*/eta at the current
+  // overlap: a constant dashpot (model H) is the stiffer of the two at small overlaps.
+  double step = impact;
+  if (now->stiffness > 0) step = std::min(step, rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness));
+  if (now->damping > 0) step = std::min(step, rules.kappa_c * M_PI * m_eff / now->damping);
+  return step;
 }
 
 template <class Visit>
@@ -62,7 +67,7 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
     pair_results_.set(k, {}, {}, 0, 0);
     const Vec3 n = d / dist;
     pair_rates_[k] = {{}, {}, 0,
-                      contact_step(normal, rules, m_eff, r_eff, false, -dot(a.v - b.v, n), 0, dist - reach,
+                      contact_step(normal, rules, m_eff, r_eff, false, -dot(a.v - b.v, n), nullptr, dist - reach,
                                    -dot(a.a - b.a, n))};
     return;
   }
@@ -74,7 +79,7 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, f.stiffness, 0, 0)};
+                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, &f, 0, 0)};
 }
 
 template <class Normal, class Tangential>
@@ -91,7 +96,7 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
   if (!c.touching) {
     c.history = {};
     wall_results_.set(k, {}, {}, 0, 0);
-    const double bound = dist > 0 ? contact_step(normal, rules, p.mass[c.i], r, false, -dot(v_rel, wall.normal), 0,
+    const double bound = dist > 0 ? contact_step(normal, rules, p.mass[c.i], r, false, -dot(v_rel, wall.normal), nullptr,
                                                  dist - r, -dot(a.a, wall.normal))
                                   : kNever;
     wall_rates_[k] = {{}, {}, 0, bound};
@@ -105,7 +110,7 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, f.stiffness, 0, 0)};
+                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, &f, 0, 0)};
 }
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,

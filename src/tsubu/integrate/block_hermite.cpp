@@ -19,17 +19,20 @@ constexpr double kNever = std::numeric_limits<double>::infinity();
 // (see BlockHermite::correct).
 constexpr double kJerkTrust = 100;
 
-// Aarseth's criterion from a, its first three derivatives at the step's end.
-double aarseth(double eta, const Vec3& a, const Vec3& j, const Vec3& a2, const Vec3& a3) {
-  const double na = norm(a), nj = norm(j), n2 = norm(a2), n3 = norm(a3);
+// Aarseth's criterion from a, its first three derivatives at the step's end. |a| is taken
+// no smaller than `a_floor` (gravity): a grain at terminal speed or at rest has a ~ 0, and
+// the relative accuracy of a vanishing acceleration is not what limits its step.
+double aarseth(double eta, double a_floor, const Vec3& a, const Vec3& j, const Vec3& a2, const Vec3& a3) {
+  const double na = std::max(norm(a), a_floor), nj = norm(j), n2 = norm(a2), n3 = norm(a3);
   const double den = nj * n3 + n2 * n2;
   return den > 0 ? std::sqrt(eta * (na * n2 + nj * nj) / den) : kNever;
 }
 
-// The second-order estimate eta_s |a|/|j| (first steps, and after the force jumped).
-double second_order(double eta, const Vec3& a, const Vec3& j) {
+// The second-order estimate eta_s |a|/|j| (first steps, and after the force jumped), |a| no
+// smaller than a_floor as in aarseth().
+double second_order(double eta, double a_floor, const Vec3& a, const Vec3& j) {
   const double nj = norm(j);
-  return nj > 0 ? eta * norm(a) / nj : kNever;
+  return nj > 0 ? eta * std::max(norm(a), a_floor) / nj : kNever;
 }
 
 // Union-find root with path halving.
@@ -134,7 +137,7 @@ void BlockHermite::particles_added(World& world, std::size_t first) {
     const FluidLoad rate = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
     state_.jerk[i] = rate.force / p.translational_mass[i];
     state_.alpha_dot[i] = rate.torque / p.inertia[i];
-    const double bound = std::min(second_order(rules_.eta_s, state_.acc[i], state_.jerk[i]),
+    const double bound = std::min(second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
                                   rules_.eta_tau * drag_relaxation_time(world.fluid, d, p.translational_mass[i], norm(p.velocity[i])));
     state_.level[i] = static_cast<std::uint8_t>(level_for(bound, world));
     set_level(static_cast<std::uint32_t>(i), state_.level[i]);
@@ -167,14 +170,16 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
   const std::size_t n = p.size();
   const Predictor kin = predictor(world, t);
   const double horizon = rules_.list_horizon * world.dt;
+  const double skin = ForceField::skin_of(world);
   list_positions_.resize(n);
   list_reach_.resize(n);
   parallel_for(n, [&](std::size_t i) {
     const Kinematics k = kin.at(i);
     list_positions_[i] = k.x;
-    // How far the grain can go in the horizon, at most one own diameter: a falling grain
-    // keeps its list for several dt, a grain at rest costs only the skin.
-    list_reach_[i] = std::min(norm(k.v) * horizon + 0.5 * norm(k.a) * horizon * horizon, 2 * p.radius[i]);
+    // How far the grain can go in the horizon, at least a skin (grains creeping in a
+    // deposit would otherwise ask for a new list each time one of them has moved half a
+    // skin), at most one own diameter: a falling grain keeps its list for several dt.
+    list_reach_[i] = std::clamp(norm(k.v) * horizon + 0.5 * norm(k.a) * horizon * horizon, skin, 2 * p.radius[i]);
   });
   forces.rebuild_at(world, list_positions_, list_reach_);
   list_skin_ = forces.skin();
@@ -183,13 +188,16 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
   lists_stale_ = false;
 }
 
-bool BlockHermite::list_outrun(const World& world, std::uint32_t i) const {
-  // Where the particle can be by the end of its next step (the Taylor series' terms
-  // bounded one by one), against where the list allows it to go.
-  const Particles& p = world.particles;
-  const double s = static_cast<double>(step_ticks(state_.level[i])) * tick(world);
-  const double moved = norm(world.domain.separation(p.position[i], list_positions_[i]));
-  const double ahead = s * (norm(p.velocity[i]) + s * (0.5 * norm(state_.acc[i]) + s / 6.0 * norm(state_.jerk[i])));
+bool BlockHermite::list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const {
+  // Where the particle, about to be evaluated at the predictor's time, can be by the end of
+  // its next step (at most twice its current one; the Taylor series' terms bounded one by
+  // one), against where the list allows it to go: the gap rules of that step need every
+  // neighbour it could reach listed.
+  const Kinematics k = kin.at(i);
+  const int next_level = std::max(int(state_.level[i]) - 1, 0);
+  const double s = static_cast<double>(step_ticks(next_level)) * tick(world);
+  const double moved = norm(world.domain.separation(k.x, list_positions_[i]));
+  const double ahead = s * (norm(k.v) + s * (0.5 * norm(k.a) + s / 6.0 * norm(state_.jerk[i])));
   return moved + ahead > list_reach_[i] + 0.45 * list_skin_;  // 10 % spare for the corrector
 }
 
@@ -304,8 +312,10 @@ void BlockHermite::correct(World& world, std::int64_t t, const std::vector<int>&
     p.omega[i] = woken ? pred.w : w;
     state_.acc[i] = a1, state_.jerk[i] = j1, state_.alpha[i] = al1, state_.alpha_dot[i] = ad1;
     state_.time[i] = t;
-    // Aarseth's criterion with the derivatives at the step's end; kept in step_bound.
-    if (!woken) rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, a1, j1, a2 + h * a3, a3));
+    // Aarseth's criterion with the derivatives at the step's end, for free particles (spec section 2); a particle in touch takes
+    // the contact rules, which follow its contacts' stiffness.
+    if (!woken && p.contact_count[i] == 0)
+      rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, norm(world.gravity), a1, j1, a2 + h * a3, a3));
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
@@ -334,7 +344,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
                                                                   norm(p.velocity[i])));
     if (contacts_before[q] != p.contact_count[i])
-      bound = std::min(bound, second_order(rules_.eta_s, state_.acc[i], state_.jerk[i]));
+      bound = std::min(bound, second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]));
     int level = level_for(bound, world);
     if (rules_.force_level < 0) {
       level = std::max(level, int(state_.level[i]) - 1);  // double at most once a step
@@ -391,18 +401,17 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     world.time = static_cast<double>(t) * dt_tick;
     for (std::size_t w = 0; w < world.walls.size() && !lists_stale_; ++w)
       lists_stale_ = norm2(world.walls[w].point - walls_built_at_[w]) > 0.25 * forces.skin() * forces.skin();
-    if (lists_stale_) rebuild_lists(world, forces, t);
     collect_active(t);
+    const Predictor kin = predictor(world, t);
+    for (std::size_t q = 0; q < active_.size() && !lists_stale_; ++q) lists_stale_ = list_outrun(world, kin, active_[q]);
+    if (lists_stale_) rebuild_lists(world, forces, t);
     wake(world, forces, t);
     contacts_before.resize(active_.size());
     for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
     evaluate(world, forces, t);
     correct(world, t, contacts_before);
     choose_levels(world, forces, t, contacts_before);
-    for (std::uint32_t i : active_) {
-      lists_stale_ = lists_stale_ || list_outrun(world, i);
-      is_active_[i] = 0;
-    }
+    for (std::uint32_t i : active_) is_active_[i] = 0;
     ++stats_.block_times;
     now = t;
   }

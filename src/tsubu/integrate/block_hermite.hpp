@@ -87,7 +87,7 @@ class BlockHermite {
   void correct(World& world, std::int64_t t, const std::vector<int>& contacts_before);
   void choose_levels(const World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
-  bool list_outrun(const World& world, std::uint32_t i) const;
+  bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
   int level_for(double bound, const World& world) const;
 };
 

@@ -126,8 +126,13 @@ int MultiLevelGrid::choose_levels(const Particles& p, const Domain& domain, doub
                                   double d_max) {
   double volume = 1;
   for (int k = 0; k < 3; ++k) volume *= std::max(extent_[k], d_max);
-  const bool same = auto_levels_ > 0 && auto_n_ == p.size() && auto_key_[0] == d_min && auto_key_[1] == d_max &&
-                    auto_key_[2] == margin && volume < 1.5 * auto_key_[3] && volume > auto_key_[3] / 1.5;
+  // The choice is kept while the estimate's inputs stay close (the block-step integrator
+  // rebuilds its lists often, with radii grown by each grain's reach); the pairs found do
+  // not depend on the number of levels, only the search's speed does.
+  auto near = [](double a, double b, double ratio) { return a <= ratio * b && b <= ratio * a; };
+  const bool same = auto_levels_ > 0 && near(static_cast<double>(auto_n_), static_cast<double>(p.size()), 1.1) &&
+                    near(auto_key_[0], d_min, 1.25) && near(auto_key_[1], d_max, 1.25) &&
+                    near(auto_key_[2], margin, 1.25) && near(volume, auto_key_[3], 1.5);
   if (same) return auto_levels_;
   const auto estimates = estimate(p, domain, margin);
   auto best = std::min_element(estimates.begin(), estimates.end(),
