@@ -14,12 +14,22 @@
 
 namespace tsubu {
 
-// A new particle array, contact-history field or world field must be added to the format
-// (and kCheckpointVersion raised); these catch additions that forget it.
+// A new particle array, contact-history field or checkpoint field must be added to the format
+// (and kCheckpointVersion raised, and docs/reliability.md's format table updated); these
+// catch additions that forget it.
 static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
               "Particles changed: write the new array in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(ContactHistory) == 5 * sizeof(double),
               "ContactHistory changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::pvd) + 2 * sizeof(std::uint64_t),
+              "OutputState changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(EnergyWatch::State) == 3 * sizeof(double),
+              "EnergyWatch::State changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector<std::string>) + 3 * sizeof(std::uint64_t) +
+                                        3 * sizeof(double) + sizeof(std::int64_t) + sizeof(OutputState) +
+                                        sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
+                                        2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State),
+              "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(int) == 4 && sizeof(double) == 8, "the format stores int as 32 and double as 64 bits");
 static_assert(std::endian::native == std::endian::little, "checkpoints are little-endian");
 
@@ -171,6 +181,7 @@ class Reader {
 
 void write_payload(const Checkpoint& c, Writer& w) {
   w.str(c.engine_version);
+  w.str(c.run_id);
   w.str(c.scenario_path);
   w.str(c.scenario_text);
   w.u64(c.overrides.size());
@@ -231,6 +242,7 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   Reader r(bytes, kHeaderSize);
   Checkpoint c;
   c.engine_version = r.str();
+  c.run_id = r.str();
   c.scenario_path = r.str();
   c.scenario_text = r.str();
   c.overrides.resize(r.count(8));

@@ -24,6 +24,7 @@ struct OutputState {
 
 struct Checkpoint {
   std::string engine_version;
+  std::string run_id;                        // of the outputs it belongs to (io/output_dir.hpp)
   std::string scenario_path, scenario_text;  // the scenario as read, and where from
   std::vector<std::string> overrides;        // --set values, in order
   std::uint64_t scenario_hash = 0;
@@ -44,7 +45,7 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: the run id
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload.
