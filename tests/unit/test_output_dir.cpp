@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -121,4 +122,19 @@ TEST(OutputFolder, ResumeAfterTheFramesWereDeletedIsAnError) {
   ASSERT_EQ(run({"resume", out.string()}, dir.path() / "resume.log"), 1);
   EXPECT_NE(slurp(dir.path() / "resume.log").find("frame_00000.vtu is missing"), std::string::npos)
       << slurp(dir.path() / "resume.log");
+}
+
+// An output interval longer than the run (1e300 meant as "never") writes the first and the
+// last step only; the step count overflowed to "every step" before.
+TEST(OutputIntervals, LongerThanTheRunWriteTheFirstAndLastStepOnly) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(run({"run", kScenario, "--out", out.string(), "--set", "simulation.duration=0.002", "--set",
+                 "output.vtk_interval=1e300", "--set", "output.series_interval=1e300"},
+                dir.path() / "log"),
+            0)
+      << slurp(dir.path() / "log");
+  EXPECT_EQ(frames_in(out), 2u);
+  const std::string series = slurp(out / "series.csv");
+  EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 3) << series;  // header, step 0, the last step
 }

@@ -150,11 +150,6 @@ RunSummary execute(const Scenario& sc, World& world, ForceField& forces, const s
   auto index_of = [&](std::int64_t id) {
     return static_cast<std::size_t>(std::find(world.particles.id.begin(), world.particles.id.end(), id) - world.particles.id.begin());
   };
-  for (std::int64_t id : sc.output.track)
-    if (index_of(id) == world.particles.size())
-      throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
-                       "no particle has id " + std::to_string(id) + "; ids run from 0 to " +
-                           std::to_string(static_cast<long>(world.particles.size()) - 1) + " in the order of [[particles]]");
   CheckedFile track;
   if (!sc.output.track.empty()) {
     if (from) {
