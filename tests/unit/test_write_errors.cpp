@@ -99,5 +99,6 @@ TEST(WriteErrors, AFullTmpfsStopsTheRunWithExit5) {
   EXPECT_EQ(code, 5) << log;
   EXPECT_NE(log.find("No space left on device"), std::string::npos) << log;
   expect_whole_run_json(out);
+  EXPECT_FALSE(fs::exists(out / "run.json.tmp")) << "a failed atomic write must not leave its .tmp";
   umount(out.c_str());
 }

@@ -290,17 +290,21 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) fail_errno("cannot create", tmp);
+  // A failed write leaves no half-written .tmp behind (on a full disk it holds space).
   try {
     fill(fd);
+    if (::fsync(fd) != 0) fail_errno("cannot fsync", tmp);
   } catch (...) {
     ::close(fd);
+    ::unlink(tmp.c_str());
     throw;
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail_errno("cannot fsync", tmp);
+  if (::close(fd) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    errno = err;
+    fail_errno("cannot close", tmp);
   }
-  if (::close(fd) != 0) fail_errno("cannot close", tmp);
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail_errno("cannot rename to", path);
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
