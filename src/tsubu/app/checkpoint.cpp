@@ -12,6 +12,8 @@
 #include <sstream>
 #include <type_traits>
 
+#include "tsubu/core/error.hpp"
+
 namespace tsubu {
 
 // A new particle array, contact-history field or checkpoint field must be added to the format
@@ -44,8 +46,9 @@ std::uint64_t fnv1a64(const char* data, std::size_t n, std::uint64_t h = 1469598
   return h;
 }
 
+// Every use is on the way of a write: a failure is a WriteError (exit code 5 unless caught).
 [[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
-  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+  throw WriteError(what + " " + p.string() + ": " + std::strerror(errno));
 }
 
 void write_all(int fd, const char* data, std::size_t n, const std::filesystem::path& name) {

@@ -54,7 +54,7 @@ std::string encode_checkpoint(const Checkpoint& c);
 Checkpoint decode_checkpoint(const std::string& bytes);
 
 // Writes `bytes` (or what `fill` writes to the open descriptor) to path.tmp, fsyncs it,
-// renames it to `path` and fsyncs the folder.
+// renames it to `path` and fsyncs the folder. Failures throw WriteError (so does sync_file).
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill);
 // fsync of an existing file (data written through another handle).

@@ -62,11 +62,7 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
     sep = ",\n";
   }
   f << (s.results.empty() ? "}" : "\n  }") << "\n}\n";
-  try {
-    write_file_atomically(path, f.str());
-  } catch (const std::runtime_error& e) {
-    throw WriteError(e.what());
-  }
+  write_file_atomically(path, f.str());
 }
 
 }  // namespace

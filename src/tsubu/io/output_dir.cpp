@@ -9,7 +9,7 @@
 #include <ctime>
 #include <fstream>
 #include <random>
-#include <sstream>
+#include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
@@ -101,15 +101,14 @@ OutputDir OutputDir::claim_new(const fs::path& dir, bool overwrite) {
   if (!run && other)
     throw UsageError(dir.string() + " is not empty and holds no tsubu run; choose an empty or new output folder "
                      "(--overwrite replaces only a tsubu run's folder)");
-  if (run)
+  if (run) {
+    std::vector<fs::path> entries;  // listed first: removing while iterating is unspecified
     for (const auto& e : fs::directory_iterator(dir))
-      if (e.path().filename() != kLockFile) fs::remove_all(e.path());
-  out.run_id_ = new_run_id();
-  try {
-    write_file_atomically(dir / kRunMarker, out.run_id_ + "\n");
-  } catch (const std::exception& e) {
-    throw WriteError(e.what());
+      if (e.path().filename() != kLockFile) entries.push_back(e.path());
+    for (const auto& e : entries) fs::remove_all(e);
   }
+  out.run_id_ = new_run_id();
+  write_file_atomically(dir / kRunMarker, out.run_id_ + "\n");
   return out;
 }
 
