@@ -127,6 +127,13 @@ TEST(BadScenarioCli, AFolderGivenAsTheScenarioIsNamedAsSuch) {
   EXPECT_NE(o.err.find(kBadDir.string() + ":0: is a folder; give the scenario file (TOML)"), std::string::npos) << o.err;
 }
 
+// An endless source is not read forever.
+TEST(BadScenarioCli, AnEndlessScenarioSourceIsRefused) {
+  const Outcome o = run_tsubu({"check", "/dev/zero"});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find("/dev/zero:0: is larger than 16 MiB"), std::string::npos) << o.err;
+}
+
 // Mistakes on the command line itself are bad input (exit 2) like every other; the argument
 // parser's own codes (105, 106, 109, ...) are not passed on.
 TEST(BadScenarioCli, CommandLineMistakesExitWith2) {

@@ -19,13 +19,21 @@ std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 1469598103934665603
   return h;
 }
 
+// A scenario is a few KiB; the cap ends the read of an endless source (/dev/zero, a pipe)
+// with an error instead of exhausting memory.
+constexpr std::size_t kMaxScenarioBytes = 16 << 20;
+
 std::string read_text(const std::string& path) {
   if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder; give the scenario file (TOML)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the scenario file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxScenarioBytes) throw InputError(path, 0, "", "is larger than 16 MiB: not a scenario file (TOML)");
+  }
+  return text;
 }
 
 // --set key.path=value: the value is TOML ("0.5", "\"hertz_tsuji\"", "[0,0,-9.81]"); a
