@@ -42,7 +42,7 @@ samples="$work/samples.csv"
 echo "code,threads,round,steps,particle_steps_per_second,peak_rss_bytes" > "$samples"
 for r in $(seq 1 "$rounds"); do
   for t in 1 2; do
-    measured "$tsubu" run "$here/$case.toml" --threads "$t" --out "$work/tsubu$t" "${tsubu_set[@]}" >/dev/null
+    measured "$tsubu" run "$here/$case.toml" --threads "$t" --out "$work/tsubu$t" --overwrite "${tsubu_set[@]}" >/dev/null
     steps=$(json "$work/tsubu$t/run.json" "['steps']")
     echo "tsubu,$t,$r,$steps,$(json "$work/tsubu$t/run.json" "['particle_steps_per_second']"),$(rss_bytes)" >> "$samples"
   done

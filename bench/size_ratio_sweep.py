@@ -157,7 +157,8 @@ def prepare(binary, ratio, args, dt, work):
 
 
 def run(binary, timed, method, out, extra=()):
-    tsubu(binary, ["run", timed, "--out", out, "--threads", "1", "--set", f'search.method="{method}"', *extra],
+    # --overwrite: every timed run replaces the previous one in the same folder.
+    tsubu(binary, ["run", timed, "--out", out, "--overwrite", "--threads", "1", "--set", f'search.method="{method}"', *extra],
           f"running {timed} with method {method}")
     with open(os.path.join(out, "run.json")) as f:
         report = json.load(f)

@@ -5,6 +5,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 source "$root/tools/setup.sh"
 out="$root/out/settle-poly"
-"$root/build/tsubu" run "$root/examples/settle-poly.toml" --out "$out" --threads "$(nproc)"
+# --overwrite: the demo replaces its previous run.
+"$root/build/tsubu" run "$root/examples/settle-poly.toml" --out "$out" --overwrite --threads "$(nproc)"
 /usr/bin/python3 "$root/tools/render_bed.py" "$out"
 echo "ParaView: open $out/vtk/particles.pvd"

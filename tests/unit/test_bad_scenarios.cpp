@@ -103,3 +103,45 @@ TEST(BadScenarioCli, OverrideOfWrongTypeNamesTheOverrideAndKey) {
 }
 
 }  // namespace
+
+namespace {
+
+// A key the scenario lacks, given with --set, is blamed on the --set (it was "file:0").
+TEST(BadScenarioCli, AnUnknownKeyFromSetIsBlamedOnTheSet) {
+  const Outcome o = run_tsubu({"check", kValid.string(), "--set", "simulaton.dt=1"});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find("--set simulaton.dt=1:1: simulaton: unknown key (did you mean 'simulation'?)"), std::string::npos)
+      << o.err;
+}
+
+// A line break inside a --set value would let it add keys of its own (they were dropped).
+TEST(BadScenarioCli, ALineBreakInASetValueIsRefused) {
+  const Outcome o = run_tsubu({"check", kValid.string(), "--set", "simulation.dt=1e-6\nsimulation.duration=5"});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find("simulation.dt: the value must be on one line"), std::string::npos) << o.err;
+}
+
+TEST(BadScenarioCli, AFolderGivenAsTheScenarioIsNamedAsSuch) {
+  const Outcome o = run_tsubu({"check", kBadDir.string()});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find(kBadDir.string() + ":0: is a folder; give the scenario file (TOML)"), std::string::npos) << o.err;
+}
+
+// An endless source is not read forever.
+TEST(BadScenarioCli, AnEndlessScenarioSourceIsRefused) {
+  const Outcome o = run_tsubu({"check", "/dev/zero"});
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  EXPECT_NE(o.err.find("/dev/zero:0: is larger than 16 MiB"), std::string::npos) << o.err;
+}
+
+// Mistakes on the command line itself are bad input (exit 2) like every other; the argument
+// parser's own codes (105, 106, 109, ...) are not passed on.
+TEST(BadScenarioCli, CommandLineMistakesExitWith2) {
+  EXPECT_EQ(run_tsubu({"run"}).exit_code, 2);
+  EXPECT_EQ(run_tsubu({"check", kValid.string(), "--bogus"}).exit_code, 2);
+  EXPECT_EQ(run_tsubu({"run", kValid.string(), "--threads", "0"}).exit_code, 2);
+  EXPECT_EQ(run_tsubu({"frobnicate"}).exit_code, 2);
+  EXPECT_EQ(run_tsubu({"--version"}).exit_code, 0);
+}
+
+}  // namespace

@@ -19,67 +19,15 @@
 #include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu_process.hpp"
 
 namespace fs = std::filesystem;
 using namespace tsubu;
+using namespace tsubu::testing;
 
 namespace {
 
 const fs::path kScenarios = fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A folder removed at the end unless the test failed (then its path is printed).
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("tsubu_ckpt_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    if (::testing::Test::HasFailure()) std::fprintf(stderr, "kept %s\n", path_.c_str());
-    else fs::remove_all(path_);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-// tsubu started with its stdout and stderr in `log`.
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) dup2(fd, 1), dup2(fd, 2);
-    std::vector<char*> argv{const_cast<char*>(TSUBU_BINARY)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(TSUBU_BINARY, argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-int wait_for(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return status;
-}
-
-// Exit code of a run to completion; its output in `log`.
-int run(const std::vector<std::string>& args, const fs::path& log) {
-  const int status = wait_for(spawn(args, log));
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 // Waits until the run has written a checkpoint (or ended), then a random time more, and
 // sends `sig`. Returns the wait status.
@@ -100,13 +48,15 @@ int interrupt_after_first_checkpoint(pid_t pid, const fs::path& out, int sig, in
 
 // The newest checkpoint without what depends on when the sessions ran and rebuilt their
 // neighbour lists: the wall time, the rebuild count and the listed pairs that do not touch
-// (their history is empty; touching pairs and their histories must agree).
+// (their history is empty; touching pairs and their histories must agree); and without the
+// run id, which is each run's own.
 std::string final_state(const fs::path& out) {
   const auto files = list_checkpoints(out / "checkpoint");
   if (files.empty()) return "no checkpoint";
   Checkpoint c = read_checkpoint(files.front());
   c.wall_seconds = 0;
   c.rebuilds = 0;
+  c.run_id.clear();
   std::erase_if(c.pair_contacts, [](const Contact& k) { return !k.touching; });
   std::erase_if(c.wall_contacts, [](const Contact& k) { return !k.touching; });
   return encode_checkpoint(c);
@@ -152,6 +102,7 @@ void expect_sigkill_resume_identical(const fs::path& dir, const fs::path& scenar
 Checkpoint sample_checkpoint() {
   Checkpoint c;
   c.engine_version = "0.1.0";
+  c.run_id = "0123456789abcdef";
   c.scenario_path = "/somewhere/bed.toml";
   c.scenario_text = "[simulation]\nduration = 1\n";
   c.overrides = {"simulation.dt=1e-6", "output.track=[0, 1]"};
@@ -187,6 +138,7 @@ TEST(CheckpointFormat, RoundTripsEveryFieldBitForBit) {
   const Checkpoint d = decode_checkpoint(bytes);
   EXPECT_EQ(encode_checkpoint(d), bytes);
   EXPECT_EQ(d.overrides, c.overrides);
+  EXPECT_EQ(d.run_id, c.run_id);
   EXPECT_EQ(d.step, c.step);
   EXPECT_EQ(d.output.pvd, c.output.pvd);
   EXPECT_EQ(d.particles.torque[1], c.particles.torque[1]);
@@ -216,8 +168,8 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
     refused(flipped, "checksum");
   }
   std::string other = bytes;
-  other[8] = 2;
-  refused(other, "format version 2");
+  other[8] = static_cast<char>(kCheckpointVersion + 1);
+  refused(other, "format version " + std::to_string(kCheckpointVersion + 1));
   refused("XSUBUCKP" + bytes.substr(8), "magic");
 }
 

@@ -39,3 +39,15 @@ TEST(EnergyWatch, ZeroLimitTurnsItOff) { EXPECT_EQ(run_and_report({"simulation.e
 
 }  // namespace
 }  // namespace tsubu
+
+namespace tsubu {
+namespace {
+
+// The diagnostic names where the spurious energy went, not just how much there is.
+TEST(EnergyWatch, TheDiagnosticNamesAParticle) {
+  const std::string why = run_and_report({});
+  EXPECT_NE(why.find("has the most kinetic energy"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace tsubu

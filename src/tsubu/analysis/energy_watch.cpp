@@ -27,11 +27,22 @@ void EnergyWatch::observe(const World& world, double elastic_energy) {
   state_.active_max = std::max(state_.active_max, active);
   const double growth = total - state_.reference;
   if (growth > 0 && growth > limit_ * state_.active_max) {
+    // The particle with the most kinetic energy: where the spurious energy went.
+    const Particles& p = world.particles;
+    std::size_t fastest = 0;
+    double most = -1;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double k = p.mass[i] * norm2(p.velocity[i]) + p.inertia[i] * norm2(p.omega[i]);
+      if (k > most) most = k, fastest = i;
+    }
     std::ostringstream msg;
     msg << "step " << world.step << ", t = " << world.time << " s: the total energy grew by " << growth
         << " J (from " << state_.reference << " J) although nothing does work on the particles; the largest kinetic + "
-        << "elastic energy so far is " << state_.active_max << " J (simulation.energy_growth_limit = " << limit_
-        << "); the time step " << world.dt << " s is probably too large for the contact stiffness: try dt/4";
+        << "elastic energy so far is " << state_.active_max << " J (simulation.energy_growth_limit = " << limit_ << ")";
+    if (most >= 0)
+      msg << "; particle id " << p.id[fastest] << " has the most kinetic energy, " << 0.5 * most << " J, with "
+          << p.contact_count[fastest] << " contacts";
+    msg << "; the time step " << world.dt << " s is probably too large for the contact stiffness: try dt/4";
     throw NumericalError(msg.str());
   }
 }

@@ -12,14 +12,32 @@
 #include <sstream>
 #include <type_traits>
 
+#include "tsubu/core/error.hpp"
+
 namespace tsubu {
 
-// A new particle array, contact-history field or world field must be added to the format
-// (and kCheckpointVersion raised); these catch additions that forget it.
+// A new particle array, contact-history field or checkpoint field must be added to the format
+// (and kCheckpointVersion raised, and docs/reliability.md's format table updated); these
+// catch additions that forget it.
 static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
               "Particles changed: write the new array in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(ContactHistory) == 5 * sizeof(double),
               "ContactHistory changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::pvd) + 2 * sizeof(std::uint64_t),
+              "OutputState changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(EnergyWatch::State) == 3 * sizeof(double),
+              "EnergyWatch::State changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector<std::string>) + 3 * sizeof(std::uint64_t) +
+                                        3 * sizeof(double) + sizeof(std::int64_t) + sizeof(OutputState) +
+                                        sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
+                                        2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State) +
+                                        sizeof(Checkpoint::BlockSteps),
+              "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
+                  sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint64_t>) &&
+                  sizeof(Checkpoint::BlockSteps) == 2 * sizeof(std::uint64_t) + sizeof(HermiteState) +
+                                                       2 * sizeof(std::vector<double>) + sizeof(BlockStepStats),
+              "the block-step state changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(int) == 4 && sizeof(double) == 8, "the format stores int as 32 and double as 64 bits");
 static_assert(std::endian::native == std::endian::little, "checkpoints are little-endian");
 
@@ -34,8 +52,9 @@ std::uint64_t fnv1a64(const char* data, std::size_t n, std::uint64_t h = 1469598
   return h;
 }
 
+// Every use is on the way of a write: a failure is a WriteError (exit code 5 unless caught).
 [[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
-  throw std::runtime_error(what + " " + p.string() + ": " + std::strerror(errno));
+  throw WriteError(what + " " + p.string() + ": " + std::strerror(errno));
 }
 
 void write_all(int fd, const char* data, std::size_t n, const std::filesystem::path& name) {
@@ -171,6 +190,7 @@ class Reader {
 
 void write_payload(const Checkpoint& c, Writer& w) {
   w.str(c.engine_version);
+  w.str(c.run_id);
   w.str(c.scenario_path);
   w.str(c.scenario_text);
   w.u64(c.overrides.size());
@@ -242,6 +262,7 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   Reader r(bytes, kHeaderSize);
   Checkpoint c;
   c.engine_version = r.str();
+  c.run_id = r.str();
   c.scenario_path = r.str();
   c.scenario_text = r.str();
   c.overrides.resize(r.count(8));
@@ -303,17 +324,21 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) fail_errno("cannot create", tmp);
+  // A failed write leaves no half-written .tmp behind (on a full disk it holds space).
   try {
     fill(fd);
+    if (::fsync(fd) != 0) fail_errno("cannot fsync", tmp);
   } catch (...) {
     ::close(fd);
+    ::unlink(tmp.c_str());
     throw;
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail_errno("cannot fsync", tmp);
+  if (::close(fd) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    errno = err;
+    fail_errno("cannot close", tmp);
   }
-  if (::close(fd) != 0) fail_errno("cannot close", tmp);
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail_errno("cannot rename to", path);
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);

@@ -25,6 +25,7 @@ struct OutputState {
 
 struct Checkpoint {
   std::string engine_version;
+  std::string run_id;                        // of the outputs it belongs to (io/output_dir.hpp)
   std::string scenario_path, scenario_text;  // the scenario as read, and where from
   std::vector<std::string> overrides;        // --set values, in order
   std::uint64_t scenario_hash = 0;
@@ -55,7 +56,7 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: the run id
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload.
@@ -64,7 +65,7 @@ std::string encode_checkpoint(const Checkpoint& c);
 Checkpoint decode_checkpoint(const std::string& bytes);
 
 // Writes `bytes` (or what `fill` writes to the open descriptor) to path.tmp, fsyncs it,
-// renames it to `path` and fsyncs the folder.
+// renames it to `path` and fsyncs the folder. Failures throw WriteError (so does sync_file).
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill);
 // fsync of an existing file (data written through another handle).

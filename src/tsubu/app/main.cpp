@@ -1,5 +1,6 @@
-// The `tsubu` command line (docs/cli.md). Exit codes: 0 ok, 1 other error, 2 bad input,
-// 3 numerical failure, 4 stopped by SIGINT/SIGTERM (a checkpoint was written).
+// The `tsubu` command line (docs/cli.md). Exit codes: 0 ok, 1 other error, 2 bad input
+// (scenario, command line, output folder), 3 numerical failure, 4 stopped by SIGINT/SIGTERM
+// (a checkpoint was written), 5 an output could not be written.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -20,12 +21,14 @@ int main(int argc, char** argv) {
   std::string scenario_path, out_dir;
   std::vector<std::string> overrides;
   int threads = 1;
+  bool overwrite = false;
 
   auto* run = app.add_subcommand("run", "run a scenario");
   run->add_option("scenario", scenario_path, "scenario file (TOML)")->required();
   run->add_option("--out", out_dir, "output folder (default: out/<scenario name>)");
   run->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
   run->add_option("--set", overrides, "override a scenario value: key.path=value (TOML value)");
+  run->add_flag("--overwrite", overwrite, "replace the outputs of an earlier run in the output folder (cleared first)");
 
   auto* check = app.add_subcommand("check", "validate a scenario and build its particles, without running");
   check->add_option("scenario", scenario_path, "scenario file (TOML)")->required();
@@ -36,7 +39,12 @@ int main(int argc, char** argv) {
   resume->add_option("dir", resume_dir, "the run's output folder (holding checkpoint/)")->required();
   resume->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version end here with 0; every mistake on the command line is bad input.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     if (resume->parsed()) {
 #ifdef _OPENMP
@@ -65,8 +73,9 @@ int main(int argc, char** argv) {
 #ifdef _OPENMP
     omp_set_num_threads(threads);
 #endif
+    if (run->count("--out") > 0 && out_dir.empty()) throw tsubu::UsageError("--out is empty; give a folder name");
     if (out_dir.empty()) out_dir = sc.output.dir.empty() ? "out/" + sc.name : sc.output.dir;
-    const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, true);
+    const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, true, overwrite);
     std::printf("%s: %lld steps of %zu particles in %.3f s (%.4g particle-steps/s); output in %s\n", sc.name.c_str(),
                 static_cast<long long>(s.steps), s.particles, s.wall_seconds,
                 s.particle_steps_per_second(),
@@ -76,6 +85,12 @@ int main(int argc, char** argv) {
   } catch (const tsubu::InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
+  } catch (const tsubu::UsageError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const tsubu::WriteError& e) {
+    std::fprintf(stderr, "\nwrite failure: %s\n", e.what());
+    return 5;
   } catch (const tsubu::NumericalError& e) {
     std::fprintf(stderr, "numerical failure: %s\n", e.what());
     return 3;

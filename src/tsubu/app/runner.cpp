@@ -6,7 +6,6 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <unistd.h>
@@ -15,6 +14,8 @@
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/io/checked_file.hpp"
+#include "tsubu/io/output_dir.hpp"
 #include "tsubu/io/vtk.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -25,8 +26,10 @@ namespace tsubu {
 
 namespace {
 
+// Steps between outputs; an interval longer than any run (1e300 meaning "never") is capped
+// so that only the first and last step write.
 std::int64_t every(double interval, double dt) {
-  return std::max<std::int64_t>(1, std::llround(interval / dt));
+  return std::max<std::int64_t>(1, std::llround(std::min(interval / dt, 0x1p62)));
 }
 
 const char* integrator_name(Integrator i) {
@@ -49,11 +52,13 @@ std::string json_escape(const std::string& s) {
   return out;
 }
 
-void write_run_json(const std::string& path, const Scenario& sc, int threads, const RunSummary& s,
-                    const std::string& status, const std::string& message) {
-  std::ofstream f(path);
+// Written atomically: run.json is the old or the new one, never empty or cut short.
+void write_run_json(const std::string& path, const std::string& run_id, const Scenario& sc, int threads,
+                    const RunSummary& s, const std::string& status, const std::string& message) {
+  std::ostringstream f;
   f << std::setprecision(17);
-  f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"scenario\": \"" << json_escape(sc.file)
+  f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"run_id\": \"" << run_id
+    << "\",\n  \"scenario\": \"" << json_escape(sc.file)
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
     << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
@@ -78,6 +83,7 @@ void write_run_json(const std::string& path, const Scenario& sc, int threads, co
     sep = ",\n";
   }
   f << (s.results.empty() ? "}" : "\n  }") << "\n}\n";
+  write_file_atomically(path, f.str());
 }
 
 }  // namespace
@@ -113,8 +119,8 @@ class StopSignals {
 
 // The time loop from world's state: from step 0 (from == nullptr; forces not yet computed)
 // or from a checkpoint whose world state, forces included, is already in `world`.
-RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_dir, int threads, bool progress,
-                   const Checkpoint* from) {
+RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_dir, const std::string& run_id,
+                   int threads, bool progress, const Checkpoint* from) {
   World& world = sim.world();
   ForceField& forces = sim.forces();
   namespace fs = std::filesystem;
@@ -130,17 +136,17 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (!sc.walls[k].motion.empty()) moving.push_back(k);
   // Output files: fresh, or cut back to their size at the checkpoint (rows written after it
   // are written again, the same bits).
-  auto reopen = [&](std::ofstream& f, const fs::path& path, std::uint64_t bytes) {
+  auto reopen = [&](CheckedFile& f, const fs::path& path, std::uint64_t bytes) {
     std::error_code ec;
     const auto size = fs::file_size(path, ec);
     if (ec || size < bytes)
       throw std::runtime_error(path.string() + " is missing or shorter than at the checkpoint (" + std::to_string(bytes) +
                                " bytes): cannot continue it");
     fs::resize_file(path, bytes);
-    f.open(path, std::ios::app);
+    f.open(path, CheckedFile::Mode::append);
   };
   const fs::path series_path = fs::path(out_dir) / "series.csv", track_path = fs::path(out_dir) / "track.csv";
-  std::ofstream series;
+  CheckedFile series;
   if (from) {
     reopen(series, series_path, from->output.series_bytes);
   } else {
@@ -153,17 +159,18 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   }
   series << std::setprecision(12);
   PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
-  if (from) pvd.restore(from->output.pvd);
+  if (from) {
+    for (const auto& [t, name] : from->output.pvd)
+      if (!fs::exists(fs::path(out_dir) / "vtk" / name))
+        throw std::runtime_error((fs::path(out_dir) / "vtk" / name).string() +
+                                 " is missing: the frames up to the checkpoint are part of the outputs a resume continues");
+    pvd.restore(from->output.pvd);
+  }
   // Index of particle `id` now (spatial sorting moves particles between indices).
   auto index_of = [&](std::int64_t id) {
     return static_cast<std::size_t>(std::find(world.particles.id.begin(), world.particles.id.end(), id) - world.particles.id.begin());
   };
-  for (std::int64_t id : sc.output.track)
-    if (index_of(id) == world.particles.size())
-      throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
-                       "no particle has id " + std::to_string(id) + "; ids run from 0 to " +
-                           std::to_string(static_cast<long>(world.particles.size()) - 1) + " in the order of [[particles]]");
-  std::ofstream track;
+  CheckedFile track;
   if (!sc.output.track.empty()) {
     if (from) {
       reopen(track, track_path, from->output.track_bytes);
@@ -228,9 +235,9 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   auto save_checkpoint = [&] {
     series.flush();
     if (track.is_open()) track.flush();
-    if (!series || (track.is_open() && !track)) throw std::runtime_error("cannot write series.csv or track.csv in " + out_dir);
     Checkpoint c;
     c.engine_version = kVersion;
+    c.run_id = run_id;
     c.scenario_path = sc.file;
     c.scenario_text = sc.text;
     c.overrides = sc.overrides;
@@ -293,6 +300,12 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   };
 
   const std::string json = (fs::path(out_dir) / "run.json").string();
+  // The end of a failure's message: checkpoints are written only after a completed step
+  // whose outputs were written, never of a failing state.
+  auto kept_checkpoint = [&]() -> std::string {
+    if (checkpoint_step < 0) return "; no checkpoint was written before the failure";
+    return "; the last good checkpoint (step " + std::to_string(checkpoint_step) + ") is kept in " + ckpt_dir.string();
+  };
   if (checkpoints && !from) {
     fs::create_directories(ckpt_dir);
     // For people: the scenario as run (the checkpoints hold their own copy).
@@ -326,7 +339,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
         msg << "stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM") << " after step " << world.step << " (t = " << world.time
             << " s); " << (checkpoint_step == world.step ? "a checkpoint of this step is" : "the newest checkpoint is")
             << " in " << ckpt_dir.string() << ": `tsubu resume " << out_dir << "` continues the run";
-        write_run_json(json, sc, threads, summary, "interrupted", msg.str());
+        write_run_json(json, run_id, sc, threads, summary, "interrupted", msg.str());
         throw Interrupted(msg.str());
       }
       if (s < steps && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
@@ -338,21 +351,27 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
                      static_cast<double>(steps - s) / rate);
       }
     }
+    if (show_progress) std::fprintf(stderr, "\n");
+    if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
+    series.close();
+    track.close();
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();
     series.flush();
     write_frame();
-    std::string msg = e.what();
-    if (checkpoint_step >= 0)
-      msg += "; the last good checkpoint (step " + std::to_string(checkpoint_step) + ") is kept in " + ckpt_dir.string();
-    else
-      msg += "; no checkpoint was written before the failure";
-    write_run_json(json, sc, threads, summary, "failed", msg);
+    const std::string msg = e.what() + kept_checkpoint();
+    write_run_json(json, run_id, sc, threads, summary, "failed", msg);
     throw NumericalError(msg);
+  } catch (const WriteError& e) {
+    finish_summary();
+    const std::string msg = e.what() + kept_checkpoint();
+    try {
+      write_run_json(json, run_id, sc, threads, summary, "failed", msg);
+    } catch (const WriteError&) {  // the disk that refused the output may refuse this too
+    }
+    throw WriteError(msg);
   }
-  if (show_progress) std::fprintf(stderr, "\n");
-  if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
   finish_summary();
   for (const auto& a : sc.analyses) {
     if (a.kind == AnalysisSpec::Kind::solid_fraction) {
@@ -362,19 +381,21 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       summary.results[a.name + "_no_rattlers"] = coordination(world, a.z_low, a.z_high, true);
     }
   }
-  write_run_json(json, sc, threads, summary, "ok", "");
+  write_run_json(json, run_id, sc, threads, summary, "ok", "");
   return summary;
 }
 
 }  // namespace
 
-RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress) {
-  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);
-  return execute(sc, sim, out_dir, threads, progress, nullptr);
+RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
+  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);  // bad input is reported before the folder is touched
+  const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
+  return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);
 }
 
 RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
   namespace fs = std::filesystem;
+  const OutputDir owner = OutputDir::claim_existing(out_dir);
   const fs::path dir = fs::path(out_dir) / "checkpoint";
   const auto files = list_checkpoints(dir);
   if (files.empty()) throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume");
@@ -394,6 +415,11 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
     }
   }
   if (used.empty()) throw std::runtime_error("no valid checkpoint in " + dir.string() + ": cannot resume");
+  if (c.run_id != owner.run_id())
+    throw std::runtime_error(used.string() + " belongs to run " + (c.run_id.empty() ? "?" : c.run_id) + ", but " + out_dir +
+                             (owner.run_id().empty() ? " has no " + std::string(kRunMarker) + " naming its run"
+                                                     : " holds the outputs of run " + owner.run_id()) +
+                             ": a resume continues only the run whose outputs are in the folder");
   if (c.engine_version != kVersion)
     std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
@@ -430,7 +456,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
   c.particles = {};
   c.pair_contacts.clear();
   c.wall_contacts.clear();
-  return execute(sc, sim, out_dir, threads, progress, &c);
+  return execute(sc, sim, out_dir, owner.run_id(), threads, progress, &c);
 }
 
 }  // namespace tsubu

@@ -34,14 +34,18 @@ class Interrupted : public std::runtime_error {
 };
 
 // Runs the scenario, writing into out_dir, with checkpoints in out_dir/checkpoint as the
-// scenario's [output] asks. Throws NumericalError (after writing run.json with the
-// diagnostic and a last VTK frame; checkpoints are left as they were) when the simulation
-// fails, and Interrupted on SIGINT/SIGTERM.
-RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, int threads, bool progress);
+// scenario's [output] asks. The folder is the run's alone (io/output_dir.hpp): a folder that
+// holds another run is refused unless `overwrite`, which clears it first. Throws
+// NumericalError (after writing run.json with the diagnostic and a last VTK frame;
+// checkpoints are left as they were) when the simulation fails, WriteError when an output
+// cannot be written, and Interrupted on SIGINT/SIGTERM.
+RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, int threads, bool progress,
+                        bool overwrite = false);
 
 // Continues the run in out_dir from its newest valid checkpoint (older ones are tried when
 // the newest is damaged), with the scenario and overrides stored in the checkpoint; the
-// outputs end equal to those of an uninterrupted run.
+// outputs end equal to those of an uninterrupted run. The checkpoint must belong to the run
+// whose outputs the folder holds (the run id of .tsubu-run).
 RunSummary resume_run(const std::string& out_dir, int threads, bool progress);
 
 }  // namespace tsubu

@@ -425,21 +425,29 @@ void ForceField::report_overlap(const World& world) const {
   scan(world.wall_contacts, wall_results_, true);
   std::ostringstream msg;
   msg << "step " << world.step << ", t = " << world.time << " s: ";
+  std::string model;  // the normal model of the worst contact
   if (worst) {
     const std::size_t a = worst->i, b = worst->j;
     const int mat_b = wall ? world.walls[b].material : p.material[b];
+    model = std::visit([](const auto& m) { return std::string(m.name); }, world.laws.at(p.material[a], mat_b).normal);
     msg << "contact between particle id " << p.id[a] << " and "
-        << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model "
-        << std::visit([](const auto& m) { return m.name; }, world.laws.at(p.material[a], mat_b).normal)
+        << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model " << model
         << ") has overlap/diameter " << ratio;
   } else {
     msg << "a particle force is not finite";
   }
-  if (!std::isfinite(ratio))
+  if (!std::isfinite(ratio) && model == EnergyConserving2005::name)
     msg << " (a non-finite force: for energy_conserving_2005 this means the contact left the reconstructed"
            " model's range, (a+1) e^2 u^2 < a d^2: raise e or lower k_n dt^2/m*)";
-  msg << " (limit " << world.overlap_limit << ", simulation.overlap_limit); the time step " << world.dt
-      << " s is probably too large for this stiffness and impact speed: try dt/4";
+  else if (!std::isfinite(ratio))
+    msg << " (a non-finite force)";
+  msg << " (limit " << world.overlap_limit << ", simulation.overlap_limit); ";
+  // Before the first step the cause is the input, whatever dt is.
+  if (world.step == 0)
+    msg << "this is the initial state, before any time step: the input places particles too deep in each other or "
+           "in a wall (check their positions and diameters, and the walls; dt is not the cause)";
+  else
+    msg << "the time step " << world.dt << " s is probably too large for this stiffness and impact speed: try dt/4";
   throw NumericalError(msg.str());
 }
 

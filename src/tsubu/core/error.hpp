@@ -12,6 +12,20 @@ class InputError : public std::runtime_error {
       : std::runtime_error(file + ":" + std::to_string(line) + ": " + (key.empty() ? "" : key + ": ") + what) {}
 };
 
+// A mistake on the command line or in the choice of output folder that has no file:line
+// (an output folder that holds another run or is in use). Exit code 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An output file could not be written (disk full, quota, I/O error): the run stops, its
+// last good checkpoint stays. Exit code 5.
+class WriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // The simulation became unphysical (NaN, runaway overlap, particle lost). Exit code 3.
 class NumericalError : public std::runtime_error {
  public:

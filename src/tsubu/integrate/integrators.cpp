@@ -24,8 +24,10 @@ void kick(Particles& p, double h) {
   std::size_t i = 0;
   while (i + 1 < p.size() && world.domain.inside(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
   const Vec3 x = p.position[i], v = p.velocity[i];
+  // The drift belongs to the step under way: the counter advances after it.
+  const std::int64_t step = world.step + 1;
   std::ostringstream msg;
-  msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
+  msg << "step " << step << ", t = " << static_cast<double>(step) * world.dt << " s: particle id " << p.id[i]
       << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x
       << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the time step " << world.dt
       << " s is too large";

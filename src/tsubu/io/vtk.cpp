@@ -2,8 +2,9 @@
 
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <iomanip>
+
+#include "tsubu/io/checked_file.hpp"
 
 namespace tsubu {
 
@@ -26,13 +27,13 @@ std::string base64(const void* data, std::size_t n) {
 
 // VTK's inline binary layout: base64(UInt64 byte count) followed by base64(raw bytes).
 template <class T>
-void data_array(std::ofstream& f, const char* type, const char* name, int components, const std::vector<T>& values) {
+void data_array(std::ostream& f, const char* type, const char* name, int components, const std::vector<T>& values) {
   const std::uint64_t bytes = values.size() * sizeof(T);
   f << "<DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
     << "\" format=\"binary\">" << base64(&bytes, sizeof bytes) << base64(values.data(), bytes) << "</DataArray>\n";
 }
 
-void vec_array(std::ofstream& f, const char* name, const std::vector<Vec3>& v) {
+void vec_array(std::ostream& f, const char* name, const std::vector<Vec3>& v) {
   std::vector<double> flat(3 * v.size());
   for (std::size_t i = 0; i < v.size(); ++i) std::memcpy(&flat[3 * i], &v[i], 3 * sizeof(double));
   data_array(f, "Float64", name, 3, flat);
@@ -42,7 +43,7 @@ void vec_array(std::ofstream& f, const char* name, const std::vector<Vec3>& v) {
 
 void write_vtu(const std::string& path, const Particles& p) {
   const std::size_t n = p.size();
-  std::ofstream f(path, std::ios::binary);
+  CheckedFile f(path);
   f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
        "header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
     << n << "\" NumberOfCells=\"" << n << "\">\n<PointData Scalars=\"diameter\" Vectors=\"velocity\">\n";
@@ -64,14 +65,16 @@ void write_vtu(const std::string& path, const Particles& p) {
   data_array(f, "Int64", "offsets", 1, offsets);
   data_array(f, "UInt8", "types", 1, types);
   f << "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  f.close();
 }
 
 void PvdIndex::add(double time, const std::string& file) {
   frames_.emplace_back(time, file);
-  std::ofstream f(path_);
+  CheckedFile f(path_);
   f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n" << std::setprecision(17);
   for (const auto& [t, name] : frames_) f << "<DataSet timestep=\"" << t << "\" file=\"" << name << "\"/>\n";
   f << "</Collection>\n</VTKFile>\n";
+  f.close();
 }
 
 }  // namespace tsubu

@@ -1,5 +1,6 @@
 // ParaView output: one .vtu (XML UnstructuredGrid, one vertex per particle, base64 binary
-// inline) per frame, and a .pvd collection indexing the frames by time.
+// inline) per frame, and a .pvd collection indexing the frames by time. Writes are checked:
+// a failure throws WriteError.
 #pragma once
 #include <string>
 #include <utility>

@@ -19,12 +19,21 @@ std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 1469598103934665603
   return h;
 }
 
+// A scenario is a few KiB; the cap ends the read of an endless source (/dev/zero, a pipe)
+// with an error instead of exhausting memory.
+constexpr std::size_t kMaxScenarioBytes = 16 << 20;
+
 std::string read_text(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder; give the scenario file (TOML)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the scenario file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxScenarioBytes) throw InputError(path, 0, "", "is larger than 16 MiB: not a scenario file (TOML)");
+  }
+  return text;
 }
 
 // --set key.path=value: the value is TOML ("0.5", "\"hertz_tsuji\"", "[0,0,-9.81]"); a
@@ -33,20 +42,36 @@ void apply_override(toml::table& root, const std::string& text) {
   const std::string origin = "--set " + text;
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError(origin, 1, "", "expected key.path=value");
-  const std::string path = text.substr(0, eq);
-  toml::table parsed;
-  try {
-    parsed = toml::parse("value = " + text.substr(eq + 1), origin);
-  } catch (const toml::parse_error& e) {
-    throw InputError(origin, 1, path, "the value is not valid TOML: " + std::string(e.description()));
-  }
+  const std::string path = text.substr(0, eq), value = text.substr(eq + 1);
+  // One value on one line: a line break would let the text add keys of its own.
+  if (value.find_first_of("\r\n") != std::string::npos)
+    throw InputError(origin, 1, path, "the value must be on one line (one TOML value, no line break)");
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // The value, under the keys parts[from..] that the scenario lacks, parsed from the --set
+  // text itself: every node made here names the --set as its source in errors.
+  auto parse_under = [&](std::size_t from) {
+    std::string keys;
+    for (std::size_t k = from; k < parts.size(); ++k) {
+      keys += k > from ? ".\"" : "\"";
+      for (char c : parts[k]) keys += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+      keys += '"';
+    }
+    try {
+      return toml::parse(keys + " = " + value, origin);
+    } catch (const toml::parse_error& e) {
+      throw InputError(origin, 1, path, "the value is not valid TOML: " + std::string(e.description()));
+    }
+  };
   toml::node* node = &root;
   for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
     if (auto* t = node->as_table()) {
-      if (!t->contains(parts[k])) t->insert(parts[k], toml::table{});
+      if (!t->contains(parts[k])) {
+        toml::table parsed = parse_under(k);
+        t->insert(parts[k], std::move(*parsed.get(parts[k])));
+        return;
+      }
       node = t->get(parts[k]);
     } else if (auto* a = node->as_array()) {
       if (parts[k].empty() || parts[k].find_first_not_of("0123456789") != std::string::npos)
@@ -60,8 +85,9 @@ void apply_override(toml::table& root, const std::string& text) {
   }
   auto* t = node->as_table();
   if (!t) throw InputError(origin, 1, path, "the parent of the last key is not a table");
+  toml::table parsed = parse_under(parts.size() - 1);
   // Moved, not copied: a copied node forgets its source, which errors use to name the --set.
-  t->insert_or_assign(parts.back(), std::move(*parsed.get("value")));
+  t->insert_or_assign(parts.back(), std::move(*parsed.get(parts.back())));
 }
 
 std::string num(double v) {
@@ -106,9 +132,16 @@ void read_block_steps(Section& s, BlockStepRules& r) {
 
 void read_simulation(Section s, Scenario& sc) {
   sc.name = s.text("name", std::filesystem::path(sc.file).stem().string());
+  // The default output folder is out/<name>: a name must stay a folder name inside out/.
+  if (sc.name.empty() || sc.name == "." || sc.name == ".." || sc.name.find_first_of("/\\") != std::string::npos ||
+      std::any_of(sc.name.begin(), sc.name.end(), [](unsigned char c) { return c < 0x20; }))
+    s.fail("name", "\"" + sc.name + "\" is not a folder name (it names out/<name>): no '/', '\\', line breaks, \".\" or \"..\"");
   sc.duration = s.positive("duration");
   sc.dt = s.positive("dt");
   if (sc.dt > sc.duration) s.fail("dt", "must not exceed simulation.duration (" + num(sc.duration) + " s)" + got(sc.dt));
+  // Step numbers are 64-bit integers and times step * dt: beyond 2^53 steps neither is exact.
+  if (!(sc.duration / sc.dt <= 0x1p53))
+    s.fail("dt", "gives " + num(sc.duration / sc.dt) + " steps over simulation.duration; at most 2^53 (9e15) are allowed (dt is in seconds)" + got(sc.dt));
   const std::string integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler", "block_hermite"}, "velocity_verlet");
   sc.integrator = integrator == "symplectic_euler" ? Integrator::symplectic_euler
                   : integrator == "block_hermite"  ? Integrator::block_hermite
@@ -248,7 +281,10 @@ void read_wall(Section s, Scenario& sc) {
   Wall w;
   w.point = s.vec3("point");
   const Vec3 n = s.vec3("normal");
-  if (!(norm(n) > 0)) s.fail("normal", "must be a non-zero vector pointing towards the particles");
+  // Its length must be an ordinary double: zero, subnormal or overflowing lengths (1e200
+  // squared) would normalise to zero or NaN.
+  if (!std::isnormal(norm(n)))
+    s.fail("normal", "must be a non-zero vector pointing towards the particles, with components of ordinary size such as [0, 0, 1]; its length is " + num(norm(n)));
   w.normal = n / norm(n);
   w.material = material_index(sc, s, "material");
   double previous = 0;
@@ -291,6 +327,10 @@ SizeDistribution read_distribution(Section s) {
     d.d_min = s.has("d_min") ? s.positive("d_min") : 0.0;
     d.d_max = s.has("d_max") ? s.positive("d_max") : 0.0;
     if (d.d_max > 0 && d.d_max <= d.d_min) s.fail("d_max", "must be larger than d_min");
+    if (!(d.acceptance() >= SizeDistribution::kMinAcceptance))
+      s.fail("median", "only a fraction " + num(d.acceptance()) + " of the lognormal draws (median " + num(d.median) +
+                           " m, sigma " + num(d.sigma) + ") lie within [d_min, d_max]; at least " +
+                           num(SizeDistribution::kMinAcceptance) + " is needed (diameters are in metres: is the median in mm?)");
   }
   s.finish();
   return d;
@@ -362,6 +402,9 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     if (particle_files && !std::filesystem::is_regular_file(src.file)) s.fail("file", "no such file \"" + src.file + "\" (relative paths start at the scenario's folder)");
     src.overlap_tolerance = s.real("overlap_tolerance", 0.01);
     if (src.overlap_tolerance < 0) s.fail("overlap_tolerance", "must be >= 0 (a fraction of the smaller diameter)" + got(src.overlap_tolerance));
+    if (src.overlap_tolerance > sc.overlap_limit)
+      s.fail("overlap_tolerance", "must not exceed simulation.overlap_limit (" + num(sc.overlap_limit) +
+                                      "): a larger overlap stops the run at its first step" + got(src.overlap_tolerance));
   } else if (kind == "lattice") {
     src.kind = ParticleSource::Kind::lattice;
     read_region(s, src, sc.domain);

@@ -22,6 +22,10 @@ void grid_span(const Particles& p, const Domain& domain, double origin[3], doubl
 
 void grid_cells(const double extent[3], double size, std::size_t items, int cells[3], double length[3]) {
   const double max_cells = 4.0 * static_cast<double>(items) + 27.0;
+  // Cells smaller than the longest extent over max_cells are too many along that axis
+  // anyway; starting there bounds the loop for any size (0, subnormal or NaN included).
+  const double smallest = std::max({extent[0], extent[1], extent[2]}) / max_cells;
+  if (!(size >= smallest)) size = smallest;
   for (;; size *= 1.25) {
     double total = 1;
     for (int k = 0; k < 3; ++k) total *= std::max(1.0, std::floor(extent[k] / size));
@@ -31,6 +35,17 @@ void grid_cells(const double extent[3], double size, std::size_t items, int cell
     cells[k] = std::max(1, static_cast<int>(std::floor(extent[k] / size)));
     length[k] = extent[k] > 0 ? extent[k] / cells[k] : size;
   }
+}
+
+int CellGrid::neighbours(const Domain& domain, int k, int c, int* out_cells) const {
+  int count = 0;
+  for (int o = -1; o <= 1; ++o) {
+    int nc = c + o;
+    if (domain.periodic[k]) nc = (nc + cells_[k]) % cells_[k];
+    else if (nc < 0 || nc >= cells_[k]) continue;
+    if (std::find(out_cells, out_cells + count, nc) == out_cells + count) out_cells[count++] = nc;
+  }
+  return count;
 }
 
 void CellGrid::bin(const Particles& p, const Domain& domain, double cell_size) {
@@ -63,38 +78,16 @@ void CellGrid::find_pairs(const Particles& p, const Domain& domain, double margi
   const double d_max = 2.0 * *std::max_element(p.radius.begin(), p.radius.end());
   bin(p, domain, d_max + margin);
 
-  // Distinct neighbour cell indices per axis: {c-1, c, c+1} wrapped (periodic) or clipped.
-  auto neighbours = [&](int k, int c, int* out_cells) {
-    int count = 0;
-    for (int o = -1; o <= 1; ++o) {
-      int nc = c + o;
-      if (domain.periodic[k]) nc = (nc + cells_[k]) % cells_[k];
-      else if (nc < 0 || nc >= cells_[k]) continue;
-      if (std::find(out_cells, out_cells + count, nc) == out_cells + count) out_cells[count++] = nc;
-    }
-    return count;
-  };
-
   std::vector<std::vector<Pair>> per_thread;  // freed on return: the lists are the big memory
   for_each_range(n, per_thread, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     std::vector<std::uint32_t> found;
     for (std::size_t i = begin; i < end; ++i) {
-      const int c = cell_of_[i];
-      const int cx = c % cells_[0], cy = (c / cells_[0]) % cells_[1], cz = c / (cells_[0] * cells_[1]);
-      int nx[3], ny[3], nz[3];
-      const int mx = neighbours(0, cx, nx), my = neighbours(1, cy, ny), mz = neighbours(2, cz, nz);
       found.clear();
-      for (int a = 0; a < mz; ++a)
-        for (int b = 0; b < my; ++b)
-          for (int d = 0; d < mx; ++d) {
-            const std::size_t cell = static_cast<std::size_t>((nz[a] * cells_[1] + ny[b]) * cells_[0] + nx[d]);
-            for (int s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
-              const std::uint32_t j = cell_items_[static_cast<std::size_t>(s)];
-              if (j <= i) continue;
-              const double reach = p.radius[i] + p.radius[j] + margin;
-              if (norm2(domain.separation(p.position[i], p.position[j])) < reach * reach) found.push_back(j);
-            }
-          }
+      for_each_near(i, domain, [&](std::uint32_t j) {
+        if (j <= i) return;
+        const double reach = p.radius[i] + p.radius[j] + margin;
+        if (norm2(domain.separation(p.position[i], p.position[j])) < reach * reach) found.push_back(j);
+      });
       std::sort(found.begin(), found.end());
       for (std::uint32_t j : found) local.push_back({static_cast<std::uint32_t>(i), j});
     }

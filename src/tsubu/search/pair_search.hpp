@@ -31,6 +31,25 @@ class CellGrid {
  public:
   void find_pairs(const Particles& p, const Domain& domain, double margin, std::vector<Pair>& out);
 
+  // For callers that walk the cells themselves (the input overlap check stops at the first
+  // offence instead of listing every pair): bins the particles into cells no smaller than
+  // `cell_size`, then f(j) for every particle j in the cells around particle i's (27-cell
+  // stencil, each cell once, wrapped along periodic axes; i itself included).
+  void bin(const Particles& p, const Domain& domain, double cell_size);
+  template <class F>
+  void for_each_near(std::size_t i, const Domain& domain, F&& f) const {
+    const int c = cell_of_[i];
+    const int cx = c % cells_[0], cy = (c / cells_[0]) % cells_[1], cz = c / (cells_[0] * cells_[1]);
+    int nx[3], ny[3], nz[3];
+    const int mx = neighbours(domain, 0, cx, nx), my = neighbours(domain, 1, cy, ny), mz = neighbours(domain, 2, cz, nz);
+    for (int a = 0; a < mz; ++a)
+      for (int b = 0; b < my; ++b)
+        for (int d = 0; d < mx; ++d) {
+          const std::size_t cell = static_cast<std::size_t>((nz[a] * cells_[1] + ny[b]) * cells_[0] + nx[d]);
+          for (int s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) f(cell_items_[static_cast<std::size_t>(s)]);
+        }
+  }
+
  private:
   int cells_[3] = {1, 1, 1};
   double cell_length_[3] = {1, 1, 1};
@@ -39,7 +58,8 @@ class CellGrid {
   std::vector<int> cell_start_;    // per cell + 1, offsets into cell_items_
   std::vector<std::uint32_t> cell_items_;
 
-  void bin(const Particles& p, const Domain& domain, double cell_size);
+  // Distinct neighbour cell indices along axis k: {c-1, c, c+1} wrapped (periodic) or clipped.
+  int neighbours(const Domain& domain, int k, int c, int* out_cells) const;
 };
 
 

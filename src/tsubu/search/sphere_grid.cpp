@@ -7,7 +7,8 @@ namespace tsubu {
 SphereGrid::SphereGrid(const Domain& domain, const Vec3& lower, const Vec3& upper, const std::array<bool, 3>& wrap,
                        double reach)
     : domain_(domain), lower_(lower), extent_(upper - lower), wrap_(wrap) {
-  for (int k = 0; k < 3; ++k) cells_[k] = std::max(1, static_cast<int>(extent_[k] / reach));
+  // At most 2^20 cells an axis (a degenerate reach must not overflow the cell keys).
+  for (int k = 0; k < 3; ++k) cells_[k] = static_cast<int>(std::clamp(extent_[k] / reach, 1.0, 1024.0 * 1024));
 }
 
 int SphereGrid::cell_of(const Vec3& x, int k) const {

@@ -1,6 +1,7 @@
 #include "tsubu/source/build_world.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <sstream>
 
@@ -35,26 +36,61 @@ LawTable build_laws(const Scenario& sc) {
   return table;
 }
 
-// Overlapping input particles beyond each source's tolerance are an input error naming both.
+// Overlapping input particles beyond each source's tolerance are an input error naming the
+// first grain, in input order, that overlaps an earlier one, and the earliest it overlaps.
+// The grid keeps memory O(N), and the check stops at the first offence: no list of all
+// pairs, which a unit slip (diameters in mm) makes N^2 long.
 void check_overlaps(const World& w, const std::vector<Grain>& grains, const std::vector<double>& tolerance) {
-  CellGrid grid;
-  std::vector<Pair> pairs;
-  grid.find_pairs(w.particles, w.domain, 0.0, pairs);
   const Particles& p = w.particles;
-  for (const Pair& pr : pairs) {
-    const double dist = norm(w.domain.separation(p.position[pr.i], p.position[pr.j]));
-    const double overlap = p.radius[pr.i] + p.radius[pr.j] - dist;
-    const double ratio = overlap / (2 * std::min(p.radius[pr.i], p.radius[pr.j]));
-    if (ratio > std::min(tolerance[pr.i], tolerance[pr.j])) {
-      const Grain& a = grains[std::max(pr.i, pr.j)];  // the later grain, naming the earlier one
-      const Grain& b = grains[std::min(pr.i, pr.j)];
-      std::ostringstream s;
-      s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
-        << " of the smaller diameter; allowed up to " << std::min(tolerance[pr.i], tolerance[pr.j])
-        << " (overlap_tolerance of csv sources; lattice and random particles may only touch)";
-      fail_at(a.where, s.str());
-    }
+  if (p.size() == 0) return;  // an inflow alone starts empty
+  CellGrid grid;
+  grid.bin(p, w.domain, 2 * *std::max_element(p.radius.begin(), p.radius.end()));
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    std::size_t earliest = i;
+    double ratio = 0;
+    grid.for_each_near(i, w.domain, [&](std::uint32_t j) {
+      if (j >= earliest) return;
+      const double overlap = p.radius[i] + p.radius[j] - norm(w.domain.separation(p.position[i], p.position[j]));
+      const double r = overlap / (2 * std::min(p.radius[i], p.radius[j]));
+      if (r > std::min(tolerance[i], tolerance[j])) earliest = j, ratio = r;
+    });
+    if (earliest == i) continue;
+    const Grain& b = grains[earliest];
+    std::ostringstream s;
+    s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
+      << " of the smaller diameter; allowed up to " << std::min(tolerance[i], tolerance[earliest])
+      << " (overlap_tolerance of csv sources; lattice and random particles may only touch)";
+    fail_at(grains[i].where, s.str());
   }
+}
+
+// A particle that starts deeper in a wall than simulation.overlap_limit would stop the run
+// at its first force evaluation; `check` reports it here, as the run sees it (a wall pushes
+// only centres in front of its plane).
+void check_walls(const World& w, const std::vector<Grain>& grains) {
+  const Particles& p = w.particles;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t k = 0; k < w.walls.size(); ++k) {
+      const double dist = w.walls[k].distance(p.position[i]);
+      const double ratio = (p.radius[i] - dist) / (2 * p.radius[i]);
+      if (dist > 0 && !(ratio <= w.overlap_limit)) {
+        std::ostringstream s;
+        s << "particle centre " << format_vec(p.position[i]) << " (diameter " << 2 * p.radius[i] << " m) starts inside wall "
+          << k << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << w.overlap_limit
+          << " (move the particle or the wall)";
+        fail_at(grains[i].where, s.str());
+      }
+    }
+}
+
+// output.track names particles by id: ids run 0..N-1 in the order of [[particles]].
+void check_tracked(const Scenario& sc, const World& w) {
+  const auto n = static_cast<std::int64_t>(w.particles.size());
+  for (std::int64_t id : sc.output.track)
+    if (id < 0 || id >= n)
+      throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
+                       "no particle has id " + std::to_string(id) + "; ids run from 0 to " + std::to_string(n - 1) +
+                           " in the order of [[particles]]");
 }
 
 }  // namespace
@@ -115,6 +151,16 @@ World build_world(const Scenario& sc) {
       const auto& mat = sc.materials[static_cast<std::size_t>(src.material)];
       w.particles.add(static_cast<std::int64_t>(grains.size()), src.material, grain.diameter, mat.density,
                       grain.position, grain.velocity);
+      // A diameter too small (or large) for doubles gives a zero, subnormal or infinite mass
+      // or inertia, which the integrators divide by.
+      const double mass = w.particles.mass.back(), inertia = w.particles.inertia.back();
+      if (!std::isnormal(mass) || !std::isnormal(inertia)) {
+        std::ostringstream s;
+        s << "the diameter " << grain.diameter << " m gives a mass of " << mass << " kg and a moment of inertia of "
+          << inertia << " kg m^2 (density " << mat.density
+          << " kg/m^3); diameters are in metres and must give a finite, non-zero mass and inertia";
+        fail_at(grain.where, s.str());
+      }
       grains.push_back(grain);
       // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
       tolerance.push_back(src.kind == ParticleSource::Kind::csv ? src.overlap_tolerance : 1e-9);
@@ -132,6 +178,8 @@ World build_world(const Scenario& sc) {
       fail_at(sc.domain_where, s.str());
     }
   check_overlaps(w, grains, tolerance);
+  check_walls(w, grains);
+  check_tracked(sc, w);
   return w;
 }
 

@@ -53,16 +53,22 @@ std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
   long number = 0;
   while (std::getline(in, line)) {
     ++number;
+    // As spreadsheets write it: a UTF-8 byte-order mark, CRLF line ends, tabs between fields
+    // (in a line without commas), an upper-case header.
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find_first_not_of(" \t") == std::string::npos || line[0] == '#') continue;
-    if (out.empty() && line.rfind("x,", 0) == 0) continue;  // header, before the first row
+    if (line.find(',') == std::string::npos) std::replace(line.begin(), line.end(), '\t', ',');
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    if (out.empty() && (line[first] == 'x' || line[first] == 'X')) continue;  // header, before the first row
     std::vector<double> v;
     std::size_t start = 0;
     for (;;) {
       const std::size_t comma = line.find(',', start);
       std::string_view field(line.data() + start, (comma == std::string::npos ? line.size() : comma) - start);
-      while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
-      while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+      while (!field.empty() && (field.front() == ' ' || field.front() == '\t')) field.remove_prefix(1);
+      while (!field.empty() && (field.back() == ' ' || field.back() == '\t')) field.remove_suffix(1);
+      if (field.size() > 1 && field[0] == '+' && field[1] != '-' && field[1] != '+') field.remove_prefix(1);  // from_chars refuses '+'
       double x = 0;
       const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(x))
@@ -112,6 +118,12 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
   const std::size_t limit = particle_limit();
   for (double volume = 0; volume < target;) {
     const double d = src.sizes.sample(rng);
+    if (!(d > 0 && std::isnormal(d * d * d))) {  // NaN, 0, infinite, or a volume lost to underflow
+      std::ostringstream s;
+      s << "drew the diameter " << d << " m: these parameters give diameters that cannot be simulated "
+        << "(they must be finite and > 0, in metres; a talbot exponent far from 0 to 6 overflows)";
+      throw InputError(src.where.file, src.where.line, src.where.key + ".distribution", s.str());
+    }
     diameters.push_back(d);
     volume += M_PI / 6 * d * d * d;
     if (diameters.size() > limit)
