@@ -20,10 +20,12 @@ struct ContactTotals {
 // Block steps: how an evaluation bounds the next step of each particle from its contacts
 // (docs/integrators.md, step rules). A touching contact allows kappa_c times the shorter
 // of its collision time at the current approach speed (Eq. 20, speed floored at u_floor)
-// and half a period of its current linear-equivalent stiffness; an approaching listed pair
+// and half a period of its current linear-equivalent stiffness, and eta_damping times its
+// dashpots' relaxation time (2/7) m*/eta; an approaching listed pair
 // allows eta_gap times the time to close its gap, but never less than its contact step.
 struct ContactStepRules {
   double kappa_c = 0.04;
+  double eta_damping = 0.4;  // a touching contact's step at most this share of (2/7) m*/eta
   double eta_gap = 0.5;
   double u_floor = 1e-3;  // m/s
 };

@@ -96,7 +96,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   Particles& p = world.particles;
   for (int pass = 0; pass < 2; ++pass) {
     forces.compute_active(world, predictor(world, now), active_, is_active_,
-                          {rules_.kappa_c, rules_.eta_gap, rules_.u_floor}, rates_);
+                          {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}, rates_);
     parallel_for(n, [&](std::size_t i) {
       const double d = 2 * p.radius[i], m = p.translational_mass[i];
       const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
@@ -243,7 +243,7 @@ void BlockHermite::wake(const World& world, const ForceField& forces, std::int64
 }
 
 void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
-  forces.compute_active(world, predictor(world, t), active_, is_active_, {rules_.kappa_c, rules_.eta_gap, rules_.u_floor},
+  forces.compute_active(world, predictor(world, t), active_, is_active_, {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor},
                         rates_);
   for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
 }

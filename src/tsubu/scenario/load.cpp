@@ -121,6 +121,7 @@ void read_block_steps(Section& s, BlockStepRules& r) {
     s.fail("force_level", "allowed -1 (off) or 0 to block_steps.levels (" + std::to_string(levels) + ")" + got(static_cast<double>(force)));
   r.force_level = static_cast<int>(force);
   r.kappa_c = s.positive("kappa_c", r.kappa_c);
+  r.eta_damping = s.positive("eta_damping", r.eta_damping);
   r.eta_gap = s.positive("eta_gap", r.eta_gap);
   r.eta_tau = s.positive("eta_tau", r.eta_tau);
   r.eta_a = s.positive("eta_a", r.eta_a);

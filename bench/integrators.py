@@ -1,0 +1,63 @@
+#!/usr/bin/python3
+"""Block steps against velocity Verlet on bench/hermite-cloud.toml (docs/integrators.md).
+
+Workload (i): the cloud falls 0.1 s through water, before any grain reaches the floor.
+Workload (ii): the same cloud falls onto the floor and settles (1.5 s).
+Each workload runs block_hermite with its default rules and velocity Verlet at the largest
+step that completes it (smaller steps are listed too: a step that fails is reported as such),
+and writes bench/results/integrators.{csv,md}: particle force evaluations, wall and CPU time,
+and the accuracy measures (kinetic energy at the end, tracked grains, the deposit's solid
+fraction and coordination).
+
+  /usr/bin/python3 bench/integrators.py [build/tsubu] [--only i|ii]
+"""
+import csv, json, os, resource, subprocess, sys, time
+
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+tsubu = next((a for a in sys.argv[1:] if not a.startswith("--") and a not in ("i", "ii")), os.path.join(root, "build", "tsubu"))
+only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+scenario = os.path.join(root, "bench", "hermite-cloud.toml")
+out_root = os.path.join(root, "out", "bench-integrators")
+
+WORKLOADS = {"i": 0.1, "ii": 1.5}
+RUNS = [("block_hermite", None), ("velocity_verlet", 1e-6), ("velocity_verlet", 2e-6)]
+
+
+def run(workload, integrator, dt):
+    name = f"{workload}-{integrator}" + (f"-{dt:g}" if dt else "")
+    out = os.path.join(out_root, name)
+    args = [tsubu, "run", scenario, "--out", out, "--overwrite", "--set", f"simulation.duration={WORKLOADS[workload]}",
+            "--set", f'simulation.integrator="{integrator}"']
+    if dt:
+        args += ["--set", f"simulation.dt={dt}"]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.monotonic()
+    rc = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env={**os.environ, "OMP_NUM_THREADS": "1"}).returncode
+    wall = time.monotonic() - start
+    cpu = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - before.ru_utime
+    r = json.load(open(os.path.join(out, "run.json")))
+    with open(os.path.join(out, "series.csv")) as f:
+        last = list(csv.DictReader(f))[-1]
+    res = r.get("results", {})
+    return {"workload": workload, "integrator": integrator, "dt": dt or r["dt"], "status": r["status"], "exit": rc,
+            "particle_force_evaluations": r["particle_force_evaluations"], "contact_evaluations": r["contact_evaluations"],
+            "wall_s": round(wall, 2), "cpu_s": round(cpu, 2), "t_end": float(last["time"]),
+            "kinetic_end": float(last["kinetic_translational"]), "contacts_end": int(last["contacts"]),
+            "solid_fraction": res.get("deposit_solid_fraction", ""), "coordination": res.get("deposit_coordination", ""),
+            "message": r.get("message", "")[:160]}
+
+
+rows = []
+for w in WORKLOADS:
+    if only and w != only:
+        continue
+    for integrator, dt in RUNS:
+        rows.append(run(w, integrator, dt))
+        print(rows[-1], flush=True)
+os.makedirs(os.path.join(root, "bench", "results"), exist_ok=True)
+path = os.path.join(root, "bench", "results", "integrators" + (f"-{only}" if only else "") + ".csv")
+with open(path, "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+print("wrote", path)
