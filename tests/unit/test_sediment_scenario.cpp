@@ -2,6 +2,7 @@
 // Rubey's speed by default, `tsubu check` reports its flux) and the deposit analyses.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -43,23 +44,54 @@ TEST(SedimentScenario, CheckPrintsTheInflowRates) {
     EXPECT_NE(out.find(word), std::string::npos) << out;
 }
 
-TEST(SedimentScenario, RunRefusesWhatTheTimeLoopDoesNotDoYet) {
-  const std::string out = ::testing::TempDir() + "tsubu_sediment_run";
-  const int status = std::system((std::string(TSUBU_BINARY) + " run " + kScenario + " --out " + out + " 2>/dev/null").c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1);
+std::string slurp(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  std::string out;
+  if (!f) return out;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) out.append(buf, n);
+  std::fclose(f);
+  return out;
+}
+
+// The "settled" stop: a mass limit of 12 grains, then [[stop]] on the kinetic energy per
+// grain. The run ends ok before its duration, names the condition, and tracks an inflow id
+// that never arrives without error (no rows for it).
+TEST(SedimentScenario, RunStopsWhenTheGrainsHaveSettled) {
+  const std::string dir = ::testing::TempDir() + "tsubu_settle_" + std::to_string(getpid());
+  std::string text = slurp(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/inflow_small.toml");
+  text += "\n[[analyses]]\ntype = \"kinetic_energy\"\nname = \"ke\"\n\n[[stop]]\nwhen = \"ke_per_grain\"\nat_most = 1e-9\nafter = 0.1\n";
+  const std::string scenario = dir + ".toml";
+  std::FILE* f = std::fopen(scenario.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+  const double grain = 2650 * M_PI / 6 * 0.004 * 0.004 * 0.004;
+  const std::string cmd = std::string(TSUBU_BINARY) + " run " + scenario + " --out " + dir + " --set simulation.duration=3" +
+                          " --set particles.0.mass_limit=" + std::to_string(12.5 * grain) + " > " + dir + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir + ".log");
+  const std::string json = slurp(dir + "/run.json");
+  EXPECT_NE(json.find("\"status\": \"ok\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"stop_reason\": \"ke_per_grain = "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"particles\": 12,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"inflow_released\": 12,"), std::string::npos) << json;
+  const std::string track = slurp(dir + "/track.csv");
+  EXPECT_NE(track.find(",7,"), std::string::npos);
+  EXPECT_EQ(track.find(",40,"), std::string::npos) << "grain 40 never enters";
+  const std::string series = slurp(dir + "/series.csv");
+  EXPECT_NE(series.find(",particles,inflow_mass,deposit_height,porosity,"), std::string::npos);
+  EXPECT_NE(series.find(",ke,ke_per_grain\n"), std::string::npos);
 }
 
 TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {
   const Scenario sc = load_scenario(kScenario);
-  ASSERT_EQ(sc.deposit_analyses.size(), 3u);
-  ASSERT_EQ(sc.analyses.size(), 1u);  // coordination: evaluated by the time loop as before
-  const AnalysisSpec& porosity = sc.deposit_analyses[1];
+  ASSERT_EQ(sc.analyses.size(), 4u);  // one list, in the order of the file
+  const AnalysisSpec& porosity = sc.analyses[1];
   EXPECT_NEAR(porosity.z_low, 0.006, 1e-15);  // 0.15 L
   EXPECT_NEAR(porosity.z_high, 0.014, 1e-15);  // 0.35 L
   EXPECT_EQ(porosity.points, 65536);
-  EXPECT_NEAR(sc.deposit_analyses[2].small_diameter, 0.01 / 3, 1e-18);
-  EXPECT_NEAR(sc.deposit_analyses[0].slices.slice, 0.004, 1e-18);
+  EXPECT_NEAR(sc.analyses[3].small_diameter, 0.01 / 3, 1e-18);
+  EXPECT_NEAR(sc.analyses[0].slices.slice, 0.004, 1e-18);
 
   World w = build_world(sc);  // 10 x 10 x 5 grains of 4 mm on a simple cubic lattice, 0.001 < z < 0.021
   for (int k = 0; k < 5; ++k)
@@ -67,8 +99,8 @@ TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {
       for (int i = 0; i < 10; ++i)
         w.particles.add(w.particles.size(), 0, 0.004, 2650, Vec3{i + 0.5, j + 0.5, k + 0.75} * 0.004, {});
   std::map<std::string, double> r;
-  for (const AnalysisSpec* a : {&sc.deposit_analyses[0], &sc.deposit_analyses[1], &sc.deposit_analyses[2], &sc.analyses[0]})
-    for (const auto& [name, value] : analysis_results(*a, w)) r[name] = value;
+  for (const AnalysisSpec& a : sc.analyses)
+    for (const auto& [name, value] : analysis_results(a, w)) r[name] = value;
   EXPECT_NEAR(r["porosity_exact"], 1 - M_PI / 6, 1e-12);  // the slab is two lattice periods
   EXPECT_NEAR(r["porosity"], r["porosity_exact"], 3 * r["porosity_standard_error"]);
   EXPECT_EQ(r["porosity_points"], 65536);

@@ -27,8 +27,19 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
     }
     case AnalysisSpec::Kind::segregation:
       return {{a.name, small_grain_share(p, a.z_low, a.z_high, a.small_diameter)}, {a.name + "_grains", grains}};
+    case AnalysisSpec::Kind::kinetic_energy: {
+      const Energies e = energies(w);
+      const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
+      return {{a.name, kinetic}, {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0}};
+    }
   }
   return {};
+}
+
+std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
+  std::vector<std::string> names;
+  for (auto& [name, value] : analysis_results(a, World{})) names.push_back(std::move(name));  // no grains: cheap
+  return names;
 }
 
 }  // namespace tsubu

@@ -17,7 +17,11 @@ namespace tsubu {
 //   deposit_height: <name> (m above the floor);
 //   porosity: <name> (Monte Carlo), <name>_standard_error, <name>_points, <name>_exact,
 //             <name>_grains (centres in the slab);
-//   segregation: <name> (Gamma, the small grains' share of the solid volume), <name>_grains.
+//   segregation: <name> (Gamma, the small grains' share of the solid volume), <name>_grains;
+//   kinetic_energy: <name> (J, translational + rotational, all grains), <name>_per_grain.
 std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w);
+
+// The names analysis_results gives, in its order (they do not depend on the state).
+std::vector<std::string> analysis_result_names(const AnalysisSpec& a);
 
 }  // namespace tsubu

@@ -31,13 +31,15 @@ static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector
                                         3 * sizeof(double) + sizeof(std::int64_t) + sizeof(OutputState) +
                                         sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
                                         2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State) +
-                                        sizeof(Checkpoint::BlockSteps),
+                                        sizeof(Checkpoint::BlockSteps) + sizeof(Checkpoint::Inflow),
               "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
                   sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint64_t>) &&
                   sizeof(Checkpoint::BlockSteps) == 2 * sizeof(std::uint64_t) + sizeof(HermiteState) +
                                                        2 * sizeof(std::vector<double>) + sizeof(BlockStepStats),
               "the block-step state changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(Checkpoint::Inflow) == 2 * sizeof(std::uint64_t) + sizeof(std::string),
+              "the inflow section changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(int) == 4 && sizeof(double) == 8, "the format stores int as 32 and double as 64 bits");
 static_assert(std::endian::native == std::endian::little, "checkpoints are little-endian");
 
@@ -230,6 +232,11 @@ void write_payload(const Checkpoint& c, Writer& w) {
     w.u64(b.stats.evaluations.size());
     w.array(b.stats.evaluations);
   }
+  if (c.inflow.present) {
+    w.pod(std::uint8_t{2});
+    w.pod(c.inflow.first_id);
+    w.str(c.inflow.state);
+  }
 }
 
 }  // namespace
@@ -290,9 +297,10 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   const auto started = r.pod<std::uint8_t>();
   if (started > 1) throw CheckpointError("corrupted: energy-watch flag is neither 0 nor 1");
   c.energy_watch = {started == 1, r.pod<double>(), r.pod<double>()};
-  if (!r.at_end()) {
+  // Optional sections, each once and in this order: 1 block steps, 2 inflow.
+  int section = r.at_end() ? -1 : r.pod<std::uint8_t>();
+  if (section == 1) {
     Checkpoint::BlockSteps& b = c.block;
-    if (r.pod<std::uint8_t>() != 1) throw CheckpointError("corrupted: unknown section after the energy watch");
     b.present = true;
     b.state.for_each_array([&](auto& array) { r.array(array, n); });
     r.array(b.list_positions, n);
@@ -303,7 +311,15 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
     b.stats.block_times = r.u64();
     b.stats.wakes = r.u64();
     r.array(b.stats.evaluations, r.count(8));
+    section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   }
+  if (section == 2) {
+    c.inflow.present = true;
+    c.inflow.first_id = r.pod<std::int64_t>();
+    c.inflow.state = r.str();
+    section = r.at_end() ? -1 : r.pod<std::uint8_t>();
+  }
+  if (section != -1) throw CheckpointError("corrupted: unknown section " + std::to_string(section) + " after the energy watch");
   if (!r.at_end()) throw CheckpointError("bytes left after the payload");
   for (const Contact& k : c.pair_contacts)
     if (k.i >= n || k.j >= n) throw CheckpointError("a contact names a particle that does not exist");

@@ -48,6 +48,13 @@ struct Checkpoint {
     bool lists_stale = false;
     BlockStepStats stats;
   } block;
+  // Runs with an inflow only (an optional section after the block steps'): the first id of
+  // its grains and its stream's state (encode_inflow_state).
+  struct Inflow {
+    bool present = false;
+    std::int64_t first_id = 0;
+    std::string state;
+  } inflow;
 };
 
 // A checkpoint file that cannot be used (missing, truncated, corrupted, other version).

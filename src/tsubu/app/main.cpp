@@ -65,11 +65,6 @@ int main(int argc, char** argv) {
         for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
       return 0;
     }
-    // Until the time loop inserts the stream's grains (source/inflow.hpp) and evaluates the
-    // deposit analyses (analysis/results.hpp): refused rather than run without them.
-    if (tsubu::inflow_source(sc) || !sc.deposit_analyses.empty())
-      throw std::runtime_error("tsubu run does not yet feed source = \"inflow\" nor evaluate analyses of type "
-                               "\"deposit_height\", \"porosity\" or \"segregation\"; tsubu check validates the scenario");
 #ifdef _OPENMP
     omp_set_num_threads(threads);
 #endif

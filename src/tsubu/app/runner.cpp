@@ -7,17 +7,20 @@
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 
 #include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/analysis/monitor.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
 #include "tsubu/io/vtk.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
@@ -60,7 +63,8 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
   f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"run_id\": \"" << run_id
     << "\",\n  \"scenario\": \"" << json_escape(sc.file)
     << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
-    << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message) << "\",\n  \"threads\": "
+    << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message)
+    << (s.stop_reason.empty() ? "" : "\",\n  \"stop_reason\": \"" + json_escape(s.stop_reason)) << "\",\n  \"threads\": "
     << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
     << ",\n  \"integrator\": \"" << integrator_name(sc.integrator) << "\",\n  \"particle_force_evaluations\": " << s.particle_force_evaluations
     << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"list_builds\": " << s.list_builds << ",\n  \"wall_time_s\": " << s.wall_seconds
@@ -128,6 +132,16 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
   RunSummary summary;
   summary.particles = world.particles.size();
+  // The inflow's grains enter at step boundaries; the analyses give series.csv columns, the
+  // results and the values the [[stop]] conditions watch.
+  std::optional<InflowFeed> inflow;
+  if (const ParticleSource* src = inflow_source(sc)) {
+    if (from && !from->inflow.present) throw std::runtime_error("the checkpoint lacks the state of the scenario's inflow");
+    inflow.emplace(sc, *src, from ? from->inflow.first_id : static_cast<std::int64_t>(world.particles.size()));
+    if (from) inflow->restore(from->inflow.state);
+  }
+  AnalysisMonitor monitor(sc.analyses, sc.stops);
+  std::string stop_reason;  // set by the first series row that meets a [[stop]] condition
 
   // Moving walls add two columns each: the displacement of the plane along its normal and
   // the load the particles put on it.
@@ -155,6 +169,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
     if (sim.block())  // particles per level (step dt/2^k)
       for (int k = 0; k <= sc.block_steps.levels; ++k) series << ",level" << k;
+    if (inflow) series << ",particles,inflow_mass";
+    for (const std::string& name : monitor.names()) series << ',' << name;
     series << '\n';
   }
   series << std::setprecision(12);
@@ -184,6 +200,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const Particles& p = world.particles;
     for (std::int64_t id : sc.output.track) {
       const std::size_t i = index_of(id);
+      if (i == p.size()) continue;  // an inflow grain not yet entered
       const Vec3 &x = p.position[i], &v = p.velocity[i], &w = p.omega[i], &f = p.force[i];
       track << world.time << ',' << p.id[i] << ',' << x.x << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ','
             << v.z << ',' << w.x << ',' << w.y << ',' << w.z << ',' << f.x << ',' << f.y << ',' << f.z << ','
@@ -192,7 +209,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   };
   std::int64_t frame = from ? from->output.frame : 0;
   std::vector<fs::path> unsynced_frames;  // frames written since the last checkpoint
-  EnergyWatch energy_watch(world, sc.energy_growth_limit);
+  // Entering grains bring energy: no energy-growth check with an inflow.
+  EnergyWatch energy_watch(world, inflow ? 0.0 : sc.energy_growth_limit);
   if (from) energy_watch.restore(from->energy_watch);
   auto write_series = [&] {
     const Energies e = energies(world);
@@ -205,7 +223,10 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
              << forces.wall_load(world, k);
     if (sim.block())
       for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
+    if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
+    for (double v : monitor.evaluate(world)) series << ',' << v;
     series << '\n';
+    stop_reason = monitor.stop_reason();
   };
   auto write_frame = [&] {
     char name[40];
@@ -255,6 +276,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       c.block.lists_stale = b->lists_stale();
       c.block.stats = b->stats();
     }
+    if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frame;
@@ -292,6 +314,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   };
   auto finish_summary = [&] {
     summary.steps = world.step;
+    summary.particles = world.particles.size();
     summary.wall_seconds = wall_before + elapsed();
     summary.contact_evaluations = forces.evaluations();
     summary.list_builds = forces.rebuilds();
@@ -318,19 +341,26 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   try {
     if (!from) {
       sim.start();
+      if (inflow) inflow->admit(sim);
       write_series();
       write_track();
       if (vtk_every) write_frame();
     }
+    if (from && from->step % series_every == 0) {  // a run that a [[stop]] ended stays ended
+      monitor.evaluate(world);
+      stop_reason = monitor.stop_reason();
+    }
     const std::int64_t loop_first = world.step + 1;
     const auto loop_start = std::chrono::steady_clock::now();
-    for (std::int64_t s = loop_first; s <= steps; ++s) {
+    for (std::int64_t s = loop_first; s <= steps && stop_reason.empty(); ++s) {
       sim.step();
+      if (inflow) inflow->admit(sim);
       summary.loop_steps = s - loop_first + 1;
       summary.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % series_every == 0 || s == steps) write_series();
-      if (s % track_every == 0 || s == steps) write_track();
-      if (vtk_every && (s % vtk_every == 0 || s == steps)) write_frame();
+      const bool last = s == steps || !stop_reason.empty();
+      if (s % track_every == 0 || last) write_track();
+      if (vtk_every && (s % vtk_every == 0 || last)) write_frame();
       if (g_signal != 0) {
         const int sig = g_signal;
         save_checkpoint();
@@ -342,7 +372,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
         write_run_json(json, run_id, sc, threads, summary, "interrupted", msg.str());
         throw Interrupted(msg.str());
       }
-      if (s < steps && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
+      if (!last && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
         save_checkpoint();
       if (show_progress && elapsed() > next_progress) {
         next_progress = elapsed() + 0.5;
@@ -373,14 +403,11 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     throw WriteError(msg);
   }
   finish_summary();
-  for (const auto& a : sc.analyses) {
-    if (a.kind == AnalysisSpec::Kind::solid_fraction) {
-      summary.results[a.name] = solid_fraction(world, a.z_low, a.z_high);
-    } else {
-      summary.results[a.name] = coordination(world, a.z_low, a.z_high, false);
-      summary.results[a.name + "_no_rattlers"] = coordination(world, a.z_low, a.z_high, true);
-    }
-  }
+  const std::vector<double>& values = monitor.evaluate(world);
+  for (std::size_t k = 0; k < values.size(); ++k) summary.results[monitor.names()[k]] = values[k];
+  if (inflow)
+    for (const auto& [name, value] : inflow->results(world)) summary.results[name] = value;
+  summary.stop_reason = stop_reason.empty() ? "duration" : stop_reason;
   write_run_json(json, run_id, sc, threads, summary, "ok", "");
   return summary;
 }

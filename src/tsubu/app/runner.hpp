@@ -25,6 +25,8 @@ struct RunSummary {
     return loop_seconds > 0 ? static_cast<double>(particles) * static_cast<double>(loop_steps) / loop_seconds : 0.0;
   }
   std::map<std::string, double> results;
+  // Why a completed run ended: "duration", or the [[stop]] condition met (run.json "stop_reason").
+  std::string stop_reason;
 };
 
 // SIGINT or SIGTERM stopped the run after writing a checkpoint and run.json (exit code 4).

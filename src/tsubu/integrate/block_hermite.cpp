@@ -143,7 +143,11 @@ void BlockHermite::particles_added(World& world, std::size_t first) {
     set_level(static_cast<std::uint32_t>(i), state_.level[i]);
     ++stats_.evaluations[state_.level[i]];
   }
-  lists_stale_ = true;  // the lists know nothing of them yet
+  // The lists know nothing of them yet: rebuilt before the next evaluation. Until then each
+  // has an entry (a checkpoint stores one per particle).
+  list_positions_.insert(list_positions_.end(), p.position.begin() + static_cast<std::ptrdiff_t>(first), p.position.end());
+  list_reach_.resize(n, 0.0);
+  lists_stale_ = true;
 }
 
 void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,

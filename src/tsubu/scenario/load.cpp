@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "tsubu/analysis/results.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -493,12 +494,14 @@ void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
   using Kind = AnalysisSpec::Kind;
   const std::string type =
-      s.choice("type", {"solid_fraction", "coordination", "deposit_height", "porosity", "segregation"}, std::nullopt);
+      s.choice("type", {"solid_fraction", "coordination", "deposit_height", "porosity", "segregation", "kinetic_energy"},
+               std::nullopt);
   a.kind = type == "solid_fraction" ? Kind::solid_fraction
            : type == "coordination" ? Kind::coordination
            : type == "deposit_height" ? Kind::deposit_height
            : type == "porosity"       ? Kind::porosity
-                                      : Kind::segregation;
+           : type == "segregation"    ? Kind::segregation
+                                      : Kind::kinetic_energy;
   a.name = s.text("name", type);
   // The spec's measures take the box's x length as L and heights from domain.lower.z.
   const double L = sc.domain.length(0), floor = sc.domain.lower.z;
@@ -510,7 +513,7 @@ void read_analysis(Section s, Scenario& sc) {
     a.slices.slices = static_cast<int>(slices);
     a.slices.threshold = s.real("threshold", 0.6);
     if (!(a.slices.threshold > 0 && a.slices.threshold < 1)) s.fail("threshold", "is a solid fraction: allowed (0, 1)" + got(a.slices.threshold));
-  } else {
+  } else if (a.kind != Kind::kinetic_energy) {
     const auto z = a.kind == Kind::porosity && !s.has("z_range") ? std::vector<double>{floor + 0.15 * L, floor + 0.35 * L}
                                                                  : s.reals("z_range");
     if (z.size() != 2 || !(z[1] > z[0])) s.fail("z_range", "must be [z_low, z_high] with z_high > z_low");
@@ -530,11 +533,35 @@ void read_analysis(Section s, Scenario& sc) {
       s.fail("small_diameter", "is required when no source gives a largest diameter (CSV files only): grains below it count as small");
     a.small_diameter = s.positive("small_diameter", third);
   }
-  for (const auto* list : {&sc.analyses, &sc.deposit_analyses})
-    for (const auto& other : *list)
-      if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
+  for (const auto& other : sc.analyses)
+    if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
   s.finish();
-  (a.kind == Kind::solid_fraction || a.kind == Kind::coordination ? sc.analyses : sc.deposit_analyses).push_back(a);
+  sc.analyses.push_back(a);
+}
+
+// [[stop]]: a condition on one result of the analyses, checked at every series.csv row.
+void read_stop(Section s, Scenario& sc) {
+  StopSpec st;
+  st.when = s.text("when");
+  std::string names;
+  bool known = false;
+  for (const AnalysisSpec& a : sc.analyses)
+    for (const std::string& name : analysis_result_names(a)) {
+      known = known || name == st.when;
+      names += (names.empty() ? "" : ", ") + name;
+    }
+  if (!known)
+    s.fail("when", "\"" + st.when + "\" is not a result of the [[analyses]]; their results are: " +
+                       (names.empty() ? "none (add an [[analyses]] entry)" : names));
+  const bool least = s.has("at_least"), most = s.has("at_most");
+  if (least == most)
+    s.fail(least ? "at_most" : "at_least", "give exactly one of at_least (stop once the value is >= it) and at_most (<= it)");
+  st.at_least = least;
+  st.limit = s.real(least ? "at_least" : "at_most");
+  st.after = s.real("after", 0.0);
+  if (!(st.after >= 0)) s.fail("after", "must be >= 0 (s; the condition is not checked before this time)" + got(st.after));
+  s.finish();
+  sc.stops.push_back(st);
 }
 
 void read_search(Section s, Scenario& sc) {
@@ -595,6 +622,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   if (auto o = top.table("output")) read_output(*o, sc);
   else read_output(Section(toml::table{}, "output", path), sc);
   for (Section a : top.tables("analyses")) read_analysis(a, sc);
+  for (Section st : top.tables("stop")) read_stop(st, sc);
   if (auto s = top.table("search")) read_search(*s, sc);
   top.finish();
   return sc;

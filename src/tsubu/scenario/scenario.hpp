@@ -60,7 +60,7 @@ struct OutputSpec {
 };
 
 struct AnalysisSpec {
-  enum class Kind { solid_fraction, coordination, deposit_height, porosity, segregation };
+  enum class Kind { solid_fraction, coordination, deposit_height, porosity, segregation, kinetic_energy };
   Kind kind = Kind::solid_fraction;
   std::string name;
   double z_low = 0, z_high = 0;  // m, the measured slab
@@ -68,6 +68,15 @@ struct AnalysisSpec {
   long points = 65536;           // porosity: Monte Carlo points
   std::uint64_t seed = 1;        // porosity: of the points
   double small_diameter = 0;     // segregation: grains below it are small, m
+};
+
+// A [[stop]] condition: the run ends (status ok) at the first series.csv row where the
+// analysis result `when` has reached `limit` from below (at_least) or from above (at_most).
+struct StopSpec {
+  std::string when;       // a result name of one of the [[analyses]]
+  bool at_least = true;   // value >= limit; false: value <= limit
+  double limit = 0;
+  double after = 0;       // s: not checked before this time
 };
 
 struct Scenario {
@@ -92,10 +101,8 @@ struct Scenario {
   std::vector<Wall> walls;
   std::vector<ParticleSource> sources;
   OutputSpec output;
-  std::vector<AnalysisSpec> analyses;
-  // The deposit measurements (deposit_height, porosity, segregation; analysis/results.hpp
-  // evaluates every kind), kept apart until the time loop evaluates them.
-  std::vector<AnalysisSpec> deposit_analyses;
+  std::vector<AnalysisSpec> analyses;  // in the order of the file
+  std::vector<StopSpec> stops;         // [[stop]]
   SearchSpec search{SearchSpec::Method::cell, 0, 1000};  // [search]: contact search method, spatial sort every 1000 steps
 };
 

@@ -86,8 +86,11 @@ void check_walls(const World& w, const std::vector<Grain>& grains) {
 // output.track names particles by id: ids run 0..N-1 in the order of [[particles]].
 void check_tracked(const Scenario& sc, const World& w) {
   const auto n = static_cast<std::int64_t>(w.particles.size());
+  // With an inflow, ids from n on belong to grains still to come: their rows start when
+  // they enter.
+  const bool inflow = inflow_source(sc) != nullptr;
   for (std::int64_t id : sc.output.track)
-    if (id < 0 || id >= n)
+    if (id < 0 || (id >= n && !inflow))
       throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
                        "no particle has id " + std::to_string(id) + "; ids run from 0 to " + std::to_string(n - 1) +
                            " in the order of [[particles]]");

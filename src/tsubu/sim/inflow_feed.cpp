@@ -1,0 +1,31 @@
+#include "tsubu/sim/inflow_feed.hpp"
+
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+
+InflowFeed::InflowFeed(const Scenario& sc, const ParticleSource& src, std::int64_t first_id)
+    : stream_(inflow_column(sc, src), sc.seed), material_(src.material), first_id_(first_id) {}
+
+void InflowFeed::admit(Simulation& sim) {
+  World& w = sim.world();
+  const std::size_t first = w.particles.size();
+  admit_due(stream_, w.time, w.domain, w.particles, material_, first_id_);
+  if (w.particles.size() > first) sim.particles_added(first);
+}
+
+double InflowFeed::mass_entered(const World& w) const {
+  double mass = 0;
+  for (std::size_t i = 0; i < w.particles.size(); ++i)
+    if (w.particles.id[i] >= first_id_) mass += w.particles.mass[i];
+  return mass;
+}
+
+std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) const {
+  std::vector<std::pair<std::string, double>> r = inflow_rates(stream_.column());
+  for (auto& count : inflow_counts(stream_.state())) r.push_back(std::move(count));
+  r.emplace_back("inflow_F_measured", w.time > 0 ? mass_entered(w) / w.time : 0.0);
+  return r;
+}
+
+}  // namespace tsubu
