@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -49,11 +50,13 @@ int interrupt_after_first_checkpoint(pid_t pid, const fs::path& out, int sig, in
 // The newest checkpoint without what depends on when the sessions ran and rebuilt their
 // neighbour lists: the wall time, the rebuild count and the listed pairs that do not touch
 // (their history is empty; touching pairs and their histories must agree); and without the
-// run id, which is each run's own.
-std::string final_state(const fs::path& out) {
+// run id, which is each run's own. `extended`: also without the overrides and the scenario
+// hash (a run extended by a resume has the resume's --set values appended).
+std::string final_state(const fs::path& out, bool extended = false) {
   const auto files = list_checkpoints(out / "checkpoint");
   if (files.empty()) return "no checkpoint";
   Checkpoint c = read_checkpoint(files.front());
+  if (extended) c.overrides.clear(), c.scenario_hash = 0;
   c.wall_seconds = 0;
   c.rebuilds = 0;
   c.run_id.clear();
@@ -63,7 +66,7 @@ std::string final_state(const fs::path& out) {
 }
 
 // Every output file of `ref` is in `out` with the same bytes, and the final states agree.
-void expect_same_outputs(const fs::path& ref, const fs::path& out) {
+void expect_same_outputs(const fs::path& ref, const fs::path& out, bool extended = false) {
   std::vector<fs::path> files = {"series.csv", "vtk/particles.pvd"};
   if (fs::exists(ref / "track.csv")) files.push_back("track.csv");
   std::size_t frames = 0;
@@ -75,7 +78,7 @@ void expect_same_outputs(const fs::path& ref, const fs::path& out) {
   EXPECT_GT(frames, 2u);
   for (const auto& f : files) EXPECT_TRUE(slurp(ref / f) == slurp(out / f)) << f << " differs";
   ASSERT_FALSE(list_checkpoints(ref / "checkpoint").empty());
-  EXPECT_TRUE(final_state(ref) == final_state(out)) << "final checkpoints differ";
+  EXPECT_TRUE(final_state(ref, extended) == final_state(out, extended)) << "final checkpoints differ";
   EXPECT_NE(slurp(out / "run.json").find("\"status\": \"ok\""), std::string::npos);
 }
 
@@ -405,4 +408,98 @@ TEST(Resume, AFolderWithoutCheckpointsIsAnError) {
   TempDir dir;
   ASSERT_EQ(run({"resume", dir.path().string()}, dir.path() / "log"), 1);
   EXPECT_NE(slurp(dir.path() / "log").find("no checkpoint"), std::string::npos) << slurp(dir.path() / "log");
+}
+
+// `tsubu run valid_small.toml --out OUT --set sets...` to its end, its output in OUT.log.
+void run_valid_small(const fs::path& out, const std::vector<std::string>& sets) {
+  std::vector<std::string> args = {"run", (kScenarios / "valid_small.toml").string(), "--out", out.string()};
+  for (const auto& set : sets) args.insert(args.end(), {"--set", set});
+  const fs::path log = out.string() + ".log";
+  ASSERT_EQ(run(args, log), 0) << slurp(log);
+}
+
+// `tsubu resume DIR --set simulation.duration=T2` extends a run that ended at T1: its outputs
+// continue to the same bytes as those of a run of T2 from the start (T1 a multiple of the
+// output intervals), the results in run.json agree, and a later resume keeps the new duration.
+TEST(Resume, SetDurationExtendsAFinishedRunBitIdentically) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", out = dir.path() / "out";
+  const std::vector<std::string> sets = {"output.series_interval=0.0005", "output.vtk_interval=0.001", "output.track=[0, 5]",
+                                         "output.track_interval=0.00025", "output.checkpoint_every_steps=700"};
+  auto with = [&](const char* duration) {
+    auto all = sets;
+    all.push_back(std::string("simulation.duration=") + duration);
+    return all;
+  };
+  ASSERT_NO_FATAL_FAILURE(run_valid_small(ref, with("0.01")));
+  ASSERT_NO_FATAL_FAILURE(run_valid_small(out, with("0.005")));
+  EXPECT_EQ(newest_step(out), 1000);
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.01"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, out, true);
+  auto results = [](const fs::path& o) {
+    const std::string json = slurp(o / "run.json");
+    return json.substr(json.find("\"results\""));
+  };
+  EXPECT_EQ(results(out), results(ref));
+  EXPECT_NE(results(ref).find("solid_fraction"), std::string::npos);
+  const Checkpoint c = read_checkpoint(list_checkpoints(out / "checkpoint").front());
+  EXPECT_EQ(c.overrides.back(), "simulation.duration=0.01");
+  EXPECT_NE(slurp(out / "checkpoint" / "overrides.txt").find("simulation.duration=0.01\n"), std::string::npos);
+  // A later resume reads the extended run (its stored hash matches): nothing more to do.
+  const std::string series = slurp(out / "series.csv");
+  ASSERT_EQ(run({"resume", out.string()}, dir.path() / "again.log"), 0) << slurp(dir.path() / "again.log");
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+}
+
+// Output intervals that follow from the duration (series_interval = duration/200) keep the
+// run's values when a resume changes the duration: an override pins them for later resumes.
+TEST(Resume, SetDurationKeepsIntervalsThatFollowFromTheDuration) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_NO_FATAL_FAILURE(
+      run_valid_small(out, {"simulation.duration=0.002", "output.vtk_interval=0", "output.checkpoint_every_steps=300"}));
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.003"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  const std::string series = slurp(out / "series.csv");
+  EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 1 + 301);  // header, t = 0 and every 1e-5 s
+  const Checkpoint c = read_checkpoint(list_checkpoints(out / "checkpoint").front());
+  EXPECT_EQ(c.step, 600);
+  char pinned[64];
+  std::snprintf(pinned, sizeof pinned, "output.series_interval=%.17g", 0.002 / 200);
+  EXPECT_NE(std::find(c.overrides.begin(), c.overrides.end(), pinned), c.overrides.end());
+}
+
+// Keys that could change the past are refused, naming the --set (exit 2); so is a duration
+// the run has already passed and a value that is not one; the run's folder is left as it was.
+TEST(Resume, SetRefusesKeysThatChangeThePast) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_NO_FATAL_FAILURE(run_valid_small(out, {"simulation.duration=0.002", "output.checkpoint_every_steps=300"}));
+  const std::string series = slurp(out / "series.csv");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"simulation.dt=1e-6", "--set simulation.dt=1e-6:1: simulation.dt: cannot change on resume: "},
+      {"contact.default.friction=0.1", "--set contact.default.friction=0.1:1: contact.default.friction: cannot change on resume: "},
+      {"simulation.seed=4", "--set simulation.seed=4:1: simulation.seed: cannot change on resume: "},
+      {"simulation.duration=0.001",
+       "--set simulation.duration=0.001:1: simulation.duration: cannot change on resume: the run is already at step 400"},
+      {"simulation.duration=\"long\"", "--set simulation.duration=\"long\":1: simulation.duration: "},
+  };
+  for (const auto& [set, message] : cases) {
+    const fs::path log = dir.path() / "resume.log";
+    EXPECT_EQ(run({"resume", out.string(), "--set", set}, log), 2) << slurp(log);
+    EXPECT_NE(slurp(log).find(message), std::string::npos) << slurp(log);
+  }
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(newest_step(out), 400);
+}
+
+// A run without checkpoints cannot be resumed or extended, and resume says why.
+TEST(Resume, ARunWithoutCheckpointsSaysSo) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_NO_FATAL_FAILURE(run_valid_small(out, {"simulation.duration=0.0005", "output.checkpoint_every_seconds=0"}));
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.001"}, dir.path() / "log"), 1);
+  EXPECT_NE(slurp(dir.path() / "log").find("checkpoint_every_steps or checkpoint_every_seconds is above 0"), std::string::npos)
+      << slurp(dir.path() / "log");
 }

@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   auto* resume = app.add_subcommand("resume", "continue an interrupted run from its newest valid checkpoint");
   resume->add_option("dir", resume_dir, "the run's output folder (holding checkpoint/)")->required();
   resume->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
+  resume->add_option("--set", overrides,
+                     "extend the run: simulation.duration, output.*_interval, output.checkpoint_every_* (TOML value)");
 
   try {
     app.parse(argc, argv);
@@ -50,7 +52,7 @@ int main(int argc, char** argv) {
 #ifdef _OPENMP
       omp_set_num_threads(threads);
 #endif
-      const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true);
+      const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true, overrides);
       std::printf("resumed: %lld steps of %zu particles; output in %s\n", static_cast<long long>(s.steps), s.particles,
                   resume_dir.c_str());
       for (const auto& [k, v] : s.results) std::printf("  %s = %.6g\n", k.c_str(), v);

@@ -1,6 +1,7 @@
 #include "tsubu/app/runner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -9,6 +10,7 @@
 #include <iomanip>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <unistd.h>
 
 #include "tsubu/analysis/energy_watch.hpp"
@@ -329,10 +331,11 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (checkpoint_step < 0) return "; no checkpoint was written before the failure";
     return "; the last good checkpoint (step " + std::to_string(checkpoint_step) + ") is kept in " + ckpt_dir.string();
   };
-  if (checkpoints && !from) {
+  if (checkpoints) {
     fs::create_directories(ckpt_dir);
-    // For people: the scenario as run (the checkpoints hold their own copy).
-    write_file_atomically(ckpt_dir / "scenario.toml", sc.text);
+    // For people: the scenario as run (the checkpoints hold their own copy), with the
+    // overrides of the run and of its resumes.
+    if (!from) write_file_atomically(ckpt_dir / "scenario.toml", sc.text);
     std::string sets;
     for (const auto& o : sc.overrides) sets += o + "\n";
     write_file_atomically(ckpt_dir / "overrides.txt", sets);
@@ -412,6 +415,49 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   return summary;
 }
 
+// The keys a resume may set: none changes a step already taken or an output already written.
+constexpr std::array<std::string_view, 6> kResumeKeys = {
+    "simulation.duration",   "output.series_interval",         "output.vtk_interval",
+    "output.track_interval", "output.checkpoint_every_steps", "output.checkpoint_every_seconds"};
+
+// The run's scenario with the resume's --set values appended to its overrides. Output
+// intervals that follow from the duration (unset in the scenario) keep the run's values
+// unless set: pinned by overrides of their own, so that later resumes keep them too.
+Scenario with_resume_overrides(const Scenario& run, const std::vector<std::string>& sets, std::int64_t step) {
+  auto key_of = [](const std::string& set) { return set.substr(0, set.find('=')); };
+  auto is_set = [&](std::string_view key) {
+    return std::any_of(sets.begin(), sets.end(), [&](const std::string& set) { return key_of(set) == key; });
+  };
+  for (const std::string& set : sets)
+    if (std::find(kResumeKeys.begin(), kResumeKeys.end(), key_of(set)) == kResumeKeys.end())
+      throw InputError("--set " + set, 1, key_of(set),
+                       "cannot change on resume: it could change the steps already taken or the outputs already "
+                       "written; a resume may set simulation.duration, output.series_interval, output.vtk_interval, "
+                       "output.track_interval, output.checkpoint_every_steps and output.checkpoint_every_seconds");
+  std::vector<std::string> overrides = run.overrides;
+  overrides.insert(overrides.end(), sets.begin(), sets.end());
+  const Scenario changed = load_scenario_text(run.text, run.file, overrides, false);
+  std::vector<std::string> pins;
+  auto pin = [&](const char* key, double was, double now) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s=%.17g", key, was);  // the same double when read back
+    if (was != now && !is_set(key)) pins.push_back(text);
+  };
+  pin("output.series_interval", run.output.series_interval, changed.output.series_interval);
+  pin("output.vtk_interval", run.output.vtk_interval, changed.output.vtk_interval);
+  pin("output.track_interval", run.output.track_interval, changed.output.track_interval);
+  if (std::llround(changed.duration / changed.dt) < step) {
+    const auto it = std::find_if(sets.begin(), sets.end(), [&](const std::string& set) { return key_of(set) == "simulation.duration"; });
+    char at[96];
+    std::snprintf(at, sizeof at, "the run is already at step %lld (t = %.9g s)", static_cast<long long>(step),
+                  static_cast<double>(step) * run.dt);
+    throw InputError("--set " + *it, 1, "simulation.duration", std::string("cannot change on resume: ") + at);
+  }
+  if (pins.empty()) return changed;
+  overrides.insert(overrides.end() - static_cast<std::ptrdiff_t>(sets.size()), pins.begin(), pins.end());
+  return load_scenario_text(run.text, run.file, overrides, false);
+}
+
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
@@ -420,12 +466,16 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);
 }
 
-RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets) {
   namespace fs = std::filesystem;
   const OutputDir owner = OutputDir::claim_existing(out_dir);
   const fs::path dir = fs::path(out_dir) / "checkpoint";
   const auto files = list_checkpoints(dir);
-  if (files.empty()) throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume");
+  if (files.empty())
+    throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume" +
+                             (fs::exists(dir) ? ""
+                                              : "; a run writes checkpoints only when [output] checkpoint_every_steps or "
+                                                "checkpoint_every_seconds is above 0"));
   Checkpoint c;
   fs::path used;
   for (const auto& f : files) {
@@ -450,9 +500,10 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress) {
   if (c.engine_version != kVersion)
     std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
-  const Scenario sc = load_scenario_text(c.scenario_text, c.scenario_path, c.overrides, false);
-  if (sc.hash != c.scenario_hash || sc.dt != c.dt)
+  const Scenario stored = load_scenario_text(c.scenario_text, c.scenario_path, c.overrides, false);
+  if (stored.hash != c.scenario_hash || stored.dt != c.dt)
     throw std::runtime_error(used.string() + " does not match the scenario it stores (hash or dt differ)");
+  const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
   World world = build_empty_world(sc);
   world.particles = std::move(c.particles);
   world.pair_contacts = std::move(c.pair_contacts);

@@ -4,6 +4,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "tsubu/scenario/scenario.hpp"
 
@@ -47,7 +48,9 @@ RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, in
 // Continues the run in out_dir from its newest valid checkpoint (older ones are tried when
 // the newest is damaged), with the scenario and overrides stored in the checkpoint; the
 // outputs end equal to those of an uninterrupted run. The checkpoint must belong to the run
-// whose outputs the folder holds (the run id of .tsubu-run).
-RunSummary resume_run(const std::string& out_dir, int threads, bool progress);
+// whose outputs the folder holds (the run id of .tsubu-run). `sets` ("key=value", as --set)
+// extend or change the run where that cannot change its past: the duration, the output and
+// checkpoint intervals (others throw InputError); they are kept in the run's overrides.
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets = {});
 
 }  // namespace tsubu
