@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "tsubu/app/progress.hpp"
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/source/build_world.hpp"
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
+    if (!check->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
     if (resume->parsed()) {
 #ifdef _OPENMP
       omp_set_num_threads(threads);

@@ -11,12 +11,12 @@
 #include <optional>
 #include <sstream>
 #include <string_view>
-#include <unistd.h>
 
 #include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/analysis/monitor.hpp"
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu/app/progress.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
@@ -246,11 +246,12 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const std::int64_t ckpt_every = sc.output.checkpoint_every_steps;
   const double ckpt_seconds = sc.output.checkpoint_every_seconds;
   const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0;
-  const bool show_progress = progress && isatty(STDERR_FILENO);
+  const Progress::Mode progress_mode_now = progress_mode(progress);
+  const double log_interval = progress_mode_now == Progress::Mode::log ? progress_log_interval() : 0.0;
   const double wall_before = from ? from->wall_seconds : 0.0;  // earlier sessions
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  double next_progress = 0.5, last_checkpoint = 0;
+  double last_checkpoint = 0;
   std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
 
   // Everything after a completed step; output files are flushed and synced first, so a
@@ -354,6 +355,11 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       stop_reason = monitor.stop_reason();
     }
     const std::int64_t loop_first = world.step + 1;
+    Progress report(progress_mode_now, log_interval, world.step, steps, elapsed());
+    auto physics = [&] {
+      const Energies e = energies(world);
+      return ProgressPhysics{e.kinetic_translational + e.kinetic_rotational, forces.totals(world).contacts};
+    };
     const auto loop_start = std::chrono::steady_clock::now();
     for (std::int64_t s = loop_first; s <= steps && stop_reason.empty(); ++s) {
       sim.step();
@@ -377,14 +383,9 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       }
       if (!last && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
         save_checkpoint();
-      if (show_progress && elapsed() > next_progress) {
-        next_progress = elapsed() + 0.5;
-        const double rate = static_cast<double>(s - (from ? from->step : 0)) / elapsed();
-        std::fprintf(stderr, "\r t = %.4g s  %5.1f%%  %.3g steps/s  ETA %.0f s   ", world.time, 100.0 * static_cast<double>(s) / static_cast<double>(steps), rate,
-                     static_cast<double>(steps - s) / rate);
-      }
+      if (report.active() && report.due(elapsed())) report.report(s, world.time, elapsed(), physics);
     }
-    if (show_progress) std::fprintf(stderr, "\n");
+    report.finish();
     if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
     series.close();
     track.close();
