@@ -93,26 +93,31 @@ void BlockHermite::start(World& world, ForceField& forces) {
   rebuild_lists(world, forces, now);
   // Twice: the first gives the accelerations that the rates of damping and drag need.
   std::vector<int> contacts_before(world.particles.contact_count);
-  Particles& p = world.particles;
   for (int pass = 0; pass < 2; ++pass) {
     forces.compute_active(world, predictor(world, now), active_, is_active_,
                           {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}, rates_);
-    parallel_for(n, [&](std::size_t i) {
-      const double d = 2 * p.radius[i], m = p.translational_mass[i];
-      const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
-      state_.acc[i] = (p.force[i] + fl.force) / m;
-      state_.alpha[i] = (p.torque[i] + fl.torque) / p.inertia[i];
-      const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
-      state_.jerk[i] = (rates_.force[i] + fr.force) / m;
-      state_.alpha_dot[i] = (rates_.torque[i] + fr.torque) / p.inertia[i];
-      if (pass == 1) p.force[i] += fl.force, p.torque[i] += fl.torque;
-    });
+    parallel_for(n, [&](std::size_t i) { take_state(world, i); });
   }
   stats_.evaluations[0] += n;  // the first evaluation, counted once
   std::fill(contacts_before.begin(), contacts_before.end(), -1);  // every step is a first step
   choose_levels(world, forces, now, contacts_before);
   std::fill(is_active_.begin(), is_active_.end(), 0);
   active_.clear();
+}
+
+void BlockHermite::take_state(World& world, std::size_t i) {
+  // p.force/torque and rates_ hold gravity and the contacts at the particle's own time; the
+  // fluid's forces are added here (at the current velocity and spin, the rates along the
+  // accelerations they give).
+  Particles& p = world.particles;
+  const double d = 2 * p.radius[i], m = p.translational_mass[i];
+  const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+  state_.acc[i] = (p.force[i] + fl.force) / m;
+  state_.alpha[i] = (p.torque[i] + fl.torque) / p.inertia[i];
+  const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
+  state_.jerk[i] = (rates_.force[i] + fr.force) / m;
+  state_.alpha_dot[i] = (rates_.torque[i] + fr.torque) / p.inertia[i];
+  p.force[i] += fl.force, p.torque[i] += fl.torque;
 }
 
 void BlockHermite::particles_added(World& world, std::size_t first) {
@@ -127,16 +132,11 @@ void BlockHermite::particles_added(World& world, std::size_t first) {
     // Untouched: gravity and the fluid alone, and the steps they allow.
     const double d = 2 * p.radius[i];
     p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
-    const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
-    p.force[i] = p.mass[i] * world.gravity + fl.force;
-    p.torque[i] = fl.torque;
+    p.force[i] = p.mass[i] * world.gravity, p.torque[i] = {};
+    rates_.force[i] = {}, rates_.torque[i] = {};
     p.contact_count[i] = 0;
     state_.time[i] = now;
-    state_.acc[i] = p.force[i] / p.translational_mass[i];
-    state_.alpha[i] = p.torque[i] / p.inertia[i];
-    const FluidLoad rate = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
-    state_.jerk[i] = rate.force / p.translational_mass[i];
-    state_.alpha_dot[i] = rate.torque / p.inertia[i];
+    take_state(world, i);
     const double bound = std::min(second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
                                   rules_.eta_tau * drag_relaxation_time(world.fluid, d, p.translational_mass[i], norm(p.velocity[i])));
     state_.level[i] = static_cast<std::uint8_t>(level_for(bound, world));

@@ -80,6 +80,8 @@ class BlockHermite {
   double tick(const World& world) const;
   std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
   Predictor predictor(const World& world, std::int64_t now) const;
+  // The Hermite state of particle i from its evaluated forces and rates plus the fluid's.
+  void take_state(World& world, std::size_t i);
   void set_level(std::uint32_t i, int level);
   void index_levels();
   void collect_active(std::int64_t t);
