@@ -20,12 +20,13 @@ struct ContactTotals {
 // Block steps: how an evaluation bounds the next step of each particle from its contacts
 // (docs/integrators.md, step rules). A touching contact allows kappa_c times the shorter
 // of its collision time at the current approach speed (Eq. 20, speed floored at u_floor)
-// and half a period of its current linear-equivalent stiffness, and eta_damping times its
-// dashpots' relaxation time (2/7) m*/eta; an approaching listed pair
-// allows eta_gap times the time to close its gap, but never less than its contact step.
+// and half a period of its current linear-equivalent stiffness; a particle in touch at most
+// eta_damping over a bound on its dashpots' fastest decay rate (see compute_active); an
+// approaching listed pair allows eta_gap times the time to close its gap, but never less
+// than its contact step.
 struct ContactStepRules {
   double kappa_c = 0.04;
-  double eta_damping = 0.4;  // a touching contact's step at most this share of (2/7) m*/eta
+  double eta_damping = 1.5;  // a particle's step at most this over its dashpots' decay rate
   double eta_gap = 0.5;
   double u_floor = 1e-3;  // m/s
 };
@@ -58,6 +59,13 @@ class ForceField {
   // evaluations (their shared step). The lists are the stepper's to rebuild (rebuild_at).
   void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                       const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out);
+  // Block steps: the change of the active particles' contact forces and torques when the
+  // velocities and spins change by dv, dw (per particle, zero for the others) at the last
+  // evaluation's positions: the dashpots' linear response -eta_n (du.n) n - eta_t du_t to the
+  // change du of each touching contact's relative velocity. The same map takes a change of
+  // accelerations to the change of the forces' rates. Written to df, dtorque (active entries).
+  void dashpot_response(const World& world, const std::vector<std::uint32_t>& active, const std::vector<Vec3>& dv,
+                        const std::vector<Vec3>& dw, std::vector<Vec3>& df, std::vector<Vec3>& dtorque) const;
   // Block steps: new lists from the given positions, each particle i listed with everything
   // within skin + reach[i] (+ reach of the partner) of touching; valid while each particle
   // stays within reach[i] + skin/2 of its position here.
@@ -110,6 +118,8 @@ class ForceField {
     Vec3 force_i, n_x_ft;  // d/dt of Results::Entry's force_i and n_x_ft
     double delta = 0;      // d(overlap)/dt
     double step_bound = 0; // s, see ContactStepRules
+    Vec3 n;                // unit normal from j to i (dashpot_response)
+    double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
   };
   PairSearch grid_;
   Results pair_results_, wall_results_;

@@ -25,22 +25,16 @@ double time_to_close(double gap, double v, double a) {
 
 // The step a contact allows (ContactStepRules): touching, from its collision time at the
 // current approach speed and its current stiffness; apart, from the time to close the gap,
-// never below the step it would get on touching.
+// never below the step it would get on touching. (The dashpots' bound is a particle's: see
+// damping_rate.)
 template <class Normal>
 double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
                     double v_approach, const ContactForceRate* now, double gap, double a_approach) {
   const double impact = rules.kappa_c * normal.collision_time(m_eff, r_eff, std::max(v_approach, rules.u_floor));
   if (!touching) return std::max(rules.eta_gap * time_to_close(gap, v_approach, a_approach), impact);
-  // The spring's half period at the current overlap, and the dashpots' relaxation time: a
-  // constant dashpot (model H) is stiffer than the spring at small overlaps, and a step long
-  // against it is unstable (a grain resting on another blew up to 139 m/s; with the normal
-  // dashpot's m*/eta alone, grains in a deposit spun up).
-  double step = impact;
-  if (now->stiffness > 0) step = std::min(step, rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness));
-  // The tangential dashpot acts on sliding and rolling at once: its relaxation time is
-  // m_t/eta_t with m_t = 2/7 m* (a sphere's 1/m + R^2/I = 7/(2m)) and eta_t <= eta_n.
-  if (now->damping > 0) step = std::min(step, rules.eta_damping * (2.0 / 7.0) * m_eff / now->damping);
-  return step;
+  // The spring's half period at the current overlap.
+  if (now->stiffness > 0) return std::min(impact, rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness));
+  return impact;
 }
 
 template <class Visit>
@@ -72,7 +66,7 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
     const Vec3 n = d / dist;
     pair_rates_[k] = {{}, {}, 0,
                       contact_step(normal, rules, m_eff, r_eff, false, -dot(a.v - b.v, n), nullptr, dist - reach,
-                                   -dot(a.a - b.a, n))};
+                                   -dot(a.a - b.a, n)), n};
     return;
   }
   DualContactGeometry g = pair_geometry<Dual>(ri, rj, p.mass[c.i], p.mass[c.j], DualVec3(d, a.v - b.v),
@@ -83,7 +77,8 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, &f, 0, 0)};
+                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, &f, 0, 0), value(g.n), f.damping,
+                    f.tangential_damping};
 }
 
 template <class Normal, class Tangential>
@@ -114,7 +109,8 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, &f, 0, 0)};
+                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, &f, 0, 0), wall.normal, f.damping,
+                    f.tangential_damping};
 }
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
@@ -154,7 +150,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * r);
     int count = 0, own = 0;
     std::uint64_t evaluated = 0;
-    double deepest = 0, bound = kNever;
+    double deepest = 0, bound = kNever, damping_over_mass = 0;
     for_each_contact_of(i, [&](std::uint32_t c, int side) {
       const Results& res = side == 0 ? wall_results_ : pair_results_;
       const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
@@ -168,7 +164,20 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
       evaluated += res.entry[c].delta > 0 && (side >= 0 || !is_active[pairs[c].i]);  // once per contact
       deepest = std::max(deepest, res.entry[c].delta);
       bound = std::min(bound, rt.step_bound);
+      if (res.entry[c].delta > 0) {
+        const double m_j = side == 0 ? kNever : p.mass[side < 0 ? pairs[c].i : pairs[c].j];
+        damping_over_mass += rt.damping * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
+      }
     });
+    // The dashpots: the fastest decay rate of the dashpots around particle i is at most
+    // (7/2) sum_c eta_c (1/m_i + 1/sqrt(m_i m_j)) (Gershgorin on M^-1/2 C M^-1/2: the dashpot
+    // of contact c acts on the relative velocity of i and j, and along the contact plane it
+    // moves sliding and rolling at once, 1/m + R^2/I = 7/(2m) for a sphere; a wall has
+    // m_j = infinity). For an isolated pair of equal grains this is the exact rate 7 eta/m
+    // of their relative sliding; with n contacts it grows n-fold. The Hermite corrector is
+    // stable for a decay rate lambda while lambda h < 2.5 (amplification 1 + z + z^2/2 +
+    // z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
+    if (damping_over_mass > 0) bound = std::min(bound, rules.eta_damping / (3.5 * damping_over_mass));
     worst[q] = std::isfinite(force.x + force.y + force.z) ? deepest / (2.0 * r) : INFINITY;
     touching[q] = evaluated;
     p.force[i] = force;
@@ -181,6 +190,36 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
   if (!(max_ratio <= world.overlap_limit)) report_overlap(world);
+}
+
+void ForceField::dashpot_response(const World& world, const std::vector<std::uint32_t>& active,
+                                  const std::vector<Vec3>& dv, const std::vector<Vec3>& dw, std::vector<Vec3>& df,
+                                  std::vector<Vec3>& dtorque) const {
+  const Particles& p = world.particles;
+  parallel_for(active.size(), [&](std::size_t q) {
+    const std::uint32_t i = active[q];
+    Vec3 force, torque;
+    for_each_contact_of(i, [&](std::uint32_t c, int side) {
+      const Results& res = side == 0 ? wall_results_ : pair_results_;
+      const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
+      const double delta = res.entry[c].delta;
+      if (!(delta > 0)) return;
+      // The contact's first particle a (i itself for walls) and its partner b.
+      const Contact& k = side == 0 ? world.wall_contacts[c] : world.pair_contacts[c];
+      const std::uint32_t a = k.i;
+      const double arm_a = p.radius[a] - 0.5 * delta;
+      const Vec3 du = side == 0 ? contact_point_velocity(rt.n, arm_a, 0.0, dv[a], dw[a], Vec3{})
+                                : contact_point_velocity(rt.n, arm_a, p.radius[k.j] - 0.5 * delta, dv[a] - dv[k.j],
+                                                         dw[a], dw[k.j]);
+      const double du_n = dot(du, rt.n);
+      const Vec3 df_t = -rt.tangential_damping * (du - du_n * rt.n);
+      const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
+      force += sign * (-rt.damping * du_n * rt.n + df_t);
+      torque += -(p.radius[i] - 0.5 * delta) * cross(rt.n, df_t);  // as Results::torque
+    });
+    df[i] = force;
+    dtorque[i] = torque;
+  });
 }
 
 }  // namespace tsubu

@@ -51,6 +51,7 @@ struct ContactForceRate {
   double energy = 0;
   double stiffness = 0;  // linear-equivalent normal stiffness now, N/m
   double damping = 0;    // normal damping coefficient now, N s/m
+  double tangential_damping = 0;  // the tangential dashpot's coefficient, N s/m
 };
 template <class Normal, class Tangential>
 inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangential& tangential,
@@ -59,7 +60,7 @@ inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangenti
   DualVec3 xi(h.xi);
   const DualVec3 ft = tangential.force(g, fn, xi);
   h.xi = value(xi);
-  return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v, fn.damping.v};
+  return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v, fn.damping.v, tangential.dashpot_ratio() * fn.damping.v};
 }
 
 // What a scenario says about a material pair, before the materials are known.

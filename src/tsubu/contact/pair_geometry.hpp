@@ -9,6 +9,15 @@
 
 namespace tsubu {
 
+// Velocity of particle i's surface at the contact point relative to its partner's, from the
+// centres' relative velocity and the spins (the point lies arm_i from i's centre along -n
+// and arm_j from j's along +n; a wall has no spin and arm_j = 0).
+template <class T>
+Vector<T> contact_point_velocity(const Vector<T>& n, const T& arm_i, const T& arm_j, const Vector<T>& v_centres,
+                                 const Vector<T>& wi, const Vector<T>& wj) {
+  return v_centres + cross(wi, -arm_i * n) - cross(wj, arm_j * n);
+}
+
 // Pair (i, j) with separation d = x_i - x_j (touching: |d| < r_i + r_j); velocities and
 // spins of both.
 template <class T>
@@ -21,7 +30,7 @@ BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj
   g.n = d / dist;
   g.delta = T(ri + rj) - dist;
   const T arm_i = T(ri) - T(0.5) * g.delta, arm_j = T(rj) - T(0.5) * g.delta;
-  const Vector<T> v_rel = vi - vj + cross(wi, -arm_i * g.n) - cross(wj, arm_j * g.n);
+  const Vector<T> v_rel = contact_point_velocity(g.n, arm_i, arm_j, vi - vj, wi, wj);
   g.v_n = dot(v_rel, g.n);
   g.v_t = v_rel - g.v_n * g.n;
   g.r_eff = ri * rj / (ri + rj);

@@ -32,6 +32,7 @@ inline void advance_spring(DualVec3& xi, const DualContactGeometry& g) { advance
 
 // Frictionless.
 struct NoFriction {
+  static constexpr double dashpot_ratio() { return 0; }  // eta_t / eta_n
   template <class G, class F, class V>
   V force(const G&, const F&, V&) const { return {}; }
 };
@@ -56,6 +57,9 @@ struct LinearCoulomb {
   double damping_ratio = 1;    // eta_t / eta_n
   double mu = 0;               // friction coefficient
   bool projected = false;
+  // eta_t / eta_n for the block steps' dashpot correction (ForceField::dashpot_response),
+  // which takes the sticking contact's dashpot also while the contact slides.
+  double dashpot_ratio() const { return damping_ratio; }
 
   template <class G, class V = Vector<typename G::Number>>
   [[gnu::always_inline]] V force(const G& g, const BasicNormalForce<typename G::Number>& fn, V& xi) const {
@@ -83,6 +87,7 @@ struct MindlinSlip {
   double mu = 0;
   double sigma = 0;          // Poisson's ratio of the pair
   double damping_ratio = 1;  // eta_t / eta_n
+  double dashpot_ratio() const { return damping_ratio; }
 
   template <class G, class V = Vector<typename G::Number>>
   [[gnu::always_inline]] V force(const G& g, const BasicNormalForce<typename G::Number>& fn, V& xi) const {

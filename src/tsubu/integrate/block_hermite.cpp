@@ -79,6 +79,11 @@ void BlockHermite::index_levels() {
   for (std::uint32_t i = 0; i < state_.size(); ++i) set_level(i, state_.level[i]);
 }
 
+void BlockHermite::size_scratch(std::size_t n) {
+  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  for (auto* v : {&change_v_, &change_w_, &change_f_, &change_t_}) v->resize(n);
+}
+
 void BlockHermite::start(World& world, ForceField& forces) {
   const std::size_t n = world.particles.size();
   const std::int64_t now = world.step << rules_.levels;
@@ -86,7 +91,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   state_.resize(n);
   std::fill(state_.time.begin(), state_.time.end(), now);
   index_levels();
-  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  size_scratch(n);
   is_active_.assign(n, 1);
   active_.resize(n);
   std::iota(active_.begin(), active_.end(), 0u);
@@ -125,7 +130,7 @@ void BlockHermite::particles_added(World& world, std::size_t first) {
   const std::size_t n = p.size();
   const std::int64_t now = world.step << rules_.levels;
   state_.resize(n);
-  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  size_scratch(n);
   is_active_.resize(n, 0);
   slot_.resize(n, UINT32_MAX);
   for (std::size_t i = first; i < n; ++i) {
@@ -156,7 +161,7 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
   state_ = std::move(state);
   stats_ = stats;
   stats_.evaluations.resize(static_cast<std::size_t>(rules_.levels) + 1, 0);
-  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  size_scratch(n);
   is_active_.assign(n, 0);
   active_.clear();
   index_levels();
@@ -252,7 +257,7 @@ void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
   for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
 }
 
-void BlockHermite::correct(World& world, std::int64_t t, const std::vector<int>& contacts_before) {
+void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before) {
   // Spec section 1, corrector: with h = t - t_i,
   //   a2 = (-6 (a0 - a1) - h (4 j0 + 2 j1)) / h^2, a3 = (12 (a0 - a1) + 6 h (j0 + j1)) / h^3,
   //   x = x_p + a2 h^4/24 + a3 h^5/120, v = v_p + a2 h^3/6 + a3 h^4/24; rotation likewise.
@@ -269,10 +274,12 @@ void BlockHermite::correct(World& world, std::int64_t t, const std::vector<int>&
   const Predictor kin = predictor(world, t);
   const double dt_tick = tick(world);
   std::vector<char> lost(active_.size(), 0);
+  predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size());
   parallel_for(active_.size(), [&](std::size_t q) {
     const std::uint32_t i = active_[q];
     const double h = static_cast<double>(t - state_.time[i]) * dt_tick;
     const Kinematics pred = kin.at(i);
+    predicted_acc_[q] = pred.a, predicted_alpha_[q] = pred.alpha;
     const double m = p.translational_mass[i], inertia = p.inertia[i];
     const double h2 = h * h, h3 = h2 * h, h4 = h3 * h;
     const bool contact_event = contacts_before[q] != p.contact_count[i];
@@ -314,6 +321,7 @@ void BlockHermite::correct(World& world, std::int64_t t, const std::vector<int>&
     p.position[i] = x;
     p.velocity[i] = woken ? pred.v : v;
     p.omega[i] = woken ? pred.w : w;
+    change_v_[i] = p.velocity[i] - pred.v, change_w_[i] = p.omega[i] - pred.w;
     state_.acc[i] = a1, state_.jerk[i] = j1, state_.alpha[i] = al1, state_.alpha_dot[i] = ad1;
     state_.time[i] = t;
     // Aarseth's criterion with the derivatives at the step's end, for free particles (spec section 2); a particle in touch takes
@@ -333,6 +341,30 @@ void BlockHermite::correct(World& world, std::int64_t t, const std::vector<int>&
           << " rules too loose for this problem ([simulation.block_steps])";
       throw NumericalError(msg.str());
     }
+  correct_dashpots(world, forces);
+}
+
+void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
+  // The contacts were evaluated at the predicted velocities: the dashpots' forces, linear in
+  // the velocities, are brought to the corrected ones, and their rates to the corrected
+  // accelerations (in effect a second evaluation of the dashpots, the only velocity-
+  // dependent contact forces). Without it the scheme is stable for a dashpot's decay rate
+  // lambda only while lambda h < 0.61; with it while lambda h < 2.5 (docs/integrators.md).
+  Particles& p = world.particles;
+  forces.dashpot_response(world, active_, change_v_, change_w_, change_f_, change_t_);
+  for (std::size_t q = 0; q < active_.size(); ++q) {
+    const std::uint32_t i = active_[q];
+    p.force[i] += change_f_[i], p.torque[i] += change_t_[i];
+    state_.acc[i] += change_f_[i] / p.translational_mass[i];
+    state_.alpha[i] += change_t_[i] / p.inertia[i];
+    change_v_[i] = state_.acc[i] - predicted_acc_[q], change_w_[i] = state_.alpha[i] - predicted_alpha_[q];
+  }
+  forces.dashpot_response(world, active_, change_v_, change_w_, change_f_, change_t_);
+  for (std::uint32_t i : active_) {
+    state_.jerk[i] += change_f_[i] / p.translational_mass[i];
+    state_.alpha_dot[i] += change_t_[i] / p.inertia[i];
+    change_v_[i] = {}, change_w_[i] = {};
+  }
 }
 
 void BlockHermite::choose_levels(const World& world, const ForceField& forces, std::int64_t t,
@@ -413,7 +445,7 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     contacts_before.resize(active_.size());
     for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
     evaluate(world, forces, t);
-    correct(world, t, contacts_before);
+    correct(world, forces, t, contacts_before);
     choose_levels(world, forces, t, contacts_before);
     for (std::uint32_t i : active_) is_active_[i] = 0;
     ++stats_.block_times;

@@ -19,7 +19,7 @@ struct BlockStepRules {
   int levels = 20;          // L: steps dt, dt/2, ..., dt/2^L
   int force_level = -1;     // >= 0: every particle on this level (a shared-step Hermite run)
   double kappa_c = 0.04;    // contact step: kappa_c t_coll (Eq. 20) or kappa_c pi sqrt(m*/k)
-  double eta_damping = 0.4; // contact step at most eta_damping (2/7) m*/eta (the dashpots)
+  double eta_damping = 1.5; // dashpots: lambda h <= eta_damping (ForceField::compute_active)
   double eta_gap = 0.5;     // free particles: share of the time to close a gap
   double eta_tau = 0.1;     // share of the fluid relaxation time
   double eta_a = 0.02;      // Aarseth criterion
@@ -71,6 +71,9 @@ class BlockHermite {
   std::vector<char> is_active_;
   std::vector<std::uint32_t> active_;
   std::vector<std::uint32_t> place_in_active_;  // choose_levels' scratch
+  // correct_dashpots' scratch: the predicted accelerations of the active particles, and per
+  // particle (zero outside the active set) the corrections and the responses to them.
+  std::vector<Vec3> predicted_acc_, predicted_alpha_, change_v_, change_w_, change_f_, change_t_;
   std::vector<Vec3> list_positions_;  // where the lists were built (positions predicted to then)
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
@@ -78,6 +81,7 @@ class BlockHermite {
   std::vector<Vec3> walls_built_at_;
 
   double tick(const World& world) const;
+  void size_scratch(std::size_t n);  // the per-particle scratch arrays for n particles
   std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
   Predictor predictor(const World& world, std::int64_t now) const;
   // The Hermite state of particle i from its evaluated forces and rates plus the fluid's.
@@ -87,7 +91,8 @@ class BlockHermite {
   void collect_active(std::int64_t t);
   void wake(const World& world, const ForceField& forces, std::int64_t t);
   void evaluate(World& world, ForceField& forces, std::int64_t t);
-  void correct(World& world, std::int64_t t, const std::vector<int>& contacts_before);
+  void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
+  void correct_dashpots(World& world, const ForceField& forces);
   void choose_levels(const World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
