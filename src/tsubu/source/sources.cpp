@@ -120,10 +120,10 @@ std::vector<Grain> read_state_grains(const ParticleSource& src, std::size_t mate
 std::vector<Grain> parse_state_grains(std::istream& in, const std::string& name, std::size_t materials) {
   std::vector<Grain> out;
   const std::vector<const char*> columns = {"id", "material", "radius", "x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"};
-  const std::string rows = "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz in SI units (tsubu export)";
+  const std::string rows = "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz in SI units, as tsubu export writes them";
   for_each_csv_row(in, name, columns, rows, [&](const std::vector<double>& v, long number) {
     if (v.size() != columns.size())
-      throw InputError(name, number, "", "expected 12 numbers (" + rows + "), got " + std::to_string(v.size()));
+      throw InputError(name, number, "", "expected 12 numbers, got " + std::to_string(v.size()) + "; rows are " + rows);
     if (v[0] != std::floor(v[0])) throw InputError(name, number, "id", "must be an integer");
     if (!(v[1] >= 0 && v[1] < static_cast<double>(materials) && v[1] == std::floor(v[1])))
       throw InputError(name, number, "material",
