@@ -178,6 +178,16 @@ def test_walls_cover_the_domain_and_move_with_a_moving_wall(out):
                 assert np.dot(np.cross(edges[k], corner - tilted[k]), normal) >= -1e-15
 
 
+def test_the_frames_are_the_same_bytes_for_any_thread_count(out, tmp_path):
+    threads = tmp_path / "threads"
+    result = subprocess.run([TSUBU, "run", SCENARIO, "--out", str(threads), "--threads", "2"], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    names = sorted(os.listdir(out / "frames"))
+    assert names == sorted(os.listdir(threads / "frames"))
+    for name in names:
+        assert (out / "frames" / name).read_bytes() == (threads / "frames" / name).read_bytes(), name
+
+
 def test_contacts_off_writes_no_network(tmp_path):
     out = run_tsubu(tmp_path / "out", "output.contacts=false", "simulation.duration=0.001")
     names = os.listdir(out / "frames")
