@@ -141,7 +141,7 @@ def prepare(binary, ratio, args, dt, work):
     with open(place, "w") as f:
         f.write(scenario(ratio, side, top, dt, 1, random_source, frames=True))
     tsubu(binary, ["run", place, "--out", os.path.join(work, f"place-{ratio}")], f"placing the bed of ratio {ratio}")
-    position, diameter = read_vtu(os.path.join(work, f"place-{ratio}", "vtk", "frame_00000.vtu"))
+    position, diameter = read_vtu(os.path.join(work, f"place-{ratio}", "frames", "frame_00000.vtu"))
     spread = args.sigma * (D_MIN / diameter) ** 1.5  # equal mean kinetic energy for every size
     velocity = np.random.default_rng(ratio).normal(0.0, 1.0, position.shape) * spread[:, None]
     bed = os.path.join(work, f"bed-{ratio}.csv")

@@ -8,4 +8,4 @@ out="$root/out/settle-poly"
 # --overwrite: the demo replaces its previous run.
 "$root/build/tsubu" run "$root/examples/settle-poly.toml" --out "$out" --overwrite --threads "$(nproc)"
 /usr/bin/python3 "$root/tools/render_bed.py" "$out"
-echo "ParaView: open $out/vtk/particles.pvd"
+echo "ParaView: open $out/frames/particles.pvd"

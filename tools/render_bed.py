@@ -3,7 +3,7 @@
 
     render_bed.py OUT_DIR [--png PATH]      (default PATH: OUT_DIR/bed.png)
 
-Reads the last frame listed in OUT_DIR/vtk/particles.pvd, OUT_DIR/series.csv and the box from
+Reads the last frame listed in OUT_DIR/frames/particles.pvd, OUT_DIR/series.csv and the box from
 OUT_DIR/run.json ("domain": {"lower": [..], "upper": [..]}), and draws three panels:
 (a) the vertical slice y = y_mid, each sphere cut by it drawn as its circular cross-section and
 coloured by diameter; (b) the solid fraction against height, from the exact volume of every
@@ -33,8 +33,8 @@ MM = 1e3
 
 
 def last_frame(out_dir):
-    """(time, centres, diameters) of the last data set listed in vtk/particles.pvd."""
-    pvd = os.path.join(out_dir, "vtk", "particles.pvd")
+    """(time, centres, diameters) of the last data set listed in frames/particles.pvd."""
+    pvd = os.path.join(out_dir, "frames", "particles.pvd")
     frames = ET.parse(pvd).getroot().findall("Collection/DataSet")
     if not frames:
         raise SystemExit(f"{pvd} lists no frames (was the run made with output.vtk_interval = 0?)")

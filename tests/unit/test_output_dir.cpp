@@ -33,7 +33,7 @@ std::vector<std::string> run_args(const fs::path& out, const std::string& durati
 
 std::size_t frames_in(const fs::path& out) {
   std::size_t n = 0;
-  for (const auto& e : fs::directory_iterator(out / "vtk")) n += e.path().extension() == ".vtu";
+  for (const auto& e : fs::directory_iterator(out / "frames")) n += e.path().extension() == ".vtu";
   return n;
 }
 
@@ -118,7 +118,7 @@ TEST(OutputFolder, ResumeAfterTheFramesWereDeletedIsAnError) {
   TempDir dir;
   const fs::path out = dir.path() / "out";
   ASSERT_EQ(run(run_args(out, "0.005"), dir.path() / "run.log"), 0) << slurp(dir.path() / "run.log");
-  fs::remove_all(out / "vtk");
+  fs::remove_all(out / "frames");
   ASSERT_EQ(run({"resume", out.string()}, dir.path() / "resume.log"), 1);
   EXPECT_NE(slurp(dir.path() / "resume.log").find("frame_00000.vtu is missing"), std::string::npos)
       << slurp(dir.path() / "resume.log");

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/error.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/size_distribution.hpp"
 #include "tsubu/source/sources.hpp"
@@ -114,6 +116,45 @@ TEST(CsvSource, HeaderMayFollowCommentsAndVelocitiesAreOptional) {
   EXPECT_EQ(g[0].where.line, 4);
   EXPECT_EQ(g[1].diameter, 0.004);
   EXPECT_EQ(g[1].velocity, (Vec3{}));
+}
+
+// The particle state tsubu export writes: every column read back, materials and spins per row.
+TEST(FileSource, ReadsTheExportedStateRowByRow) {
+  std::istringstream in(
+      "id,material,radius[m],x[m],y[m],z[m],vx[m/s],vy[m/s],vz[m/s],wx[rad/s],wy[rad/s],wz[rad/s]\n"
+      "0,1,0.0005,0.1,0.2,0.3,1,2,3,4,5,6\n"
+      "1,0,0.00075,0.4,0.5,0.6,0,0,-1,0,0,7\n");
+  const std::vector<Grain> g = parse_state_grains(in, "bed.csv", 2);
+  ASSERT_EQ(g.size(), 2u);
+  EXPECT_EQ(g[0].material, 1);
+  EXPECT_EQ(g[0].diameter, 0.001);
+  EXPECT_EQ(g[0].position, (Vec3{0.1, 0.2, 0.3}));
+  EXPECT_EQ(g[0].velocity, (Vec3{1, 2, 3}));
+  EXPECT_EQ(g[0].omega, (Vec3{4, 5, 6}));
+  EXPECT_EQ(g[1].where.line, 3);
+  EXPECT_EQ(g[1].material, 0);
+}
+
+// Bad rows: file:line: column: what is wrong and what is allowed.
+TEST(FileSource, BadRowsNameTheLineAndTheColumn) {
+  auto message = [](const std::string& rows) {
+    std::istringstream in("id,material,radius[m],x[m],y[m],z[m],vx[m/s],vy[m/s],vz[m/s],wx[rad/s],wy[rad/s],wz[rad/s]\n" + rows);
+    try {
+      parse_state_grains(in, "bed.csv", 2);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("0,2,0.0005,0,0,0,0,0,0,0,0,0\n"),
+            "bed.csv:2: material: must be the index of one of the scenario's 2 [[materials]] (0 to 1, in the order of the file)");
+  EXPECT_EQ(message("0,0,0.0005,0,0,0,0,0,0\n"),
+            "bed.csv:2: expected 12 numbers, got 9; rows are id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz in SI units, as "
+            "tsubu export writes them");
+  EXPECT_EQ(message("0,0,0.0005,0,0,0,0,0,0,0,0,0\n1.5,0,0.0005,0,0,0,0,0,0,0,0,0\n"), "bed.csv:3: id: must be an integer");
+  EXPECT_EQ(message("0,0,0,0,0,0,0,0,0,0,0,0\n"), "bed.csv:2: radius: the radius must be > 0 (metres)");
+  EXPECT_NE(message("0,0,0.0005,0,abc,0,0,0,0,0,0,0\n").find("bed.csv:2: y: \"abc\" is not a finite number"), std::string::npos);
+  EXPECT_EQ(message(""), "bed.csv:1: no particles in the file");
 }
 
 }  // namespace

@@ -78,7 +78,7 @@ Particles make_particles(int n) {
   for (int i = 0; i < n; ++i) {
     const double diameter = (1.0 / 3.0 + i) * 1e-3;
     const tsubu::Vec3 x = next(), v = next();
-    p.add((std::int64_t{1} << 53) + 1 + 3 * i, 0, diameter, 2500.0, x, v);  // 2^53 + 1: not a double
+    p.add((std::int64_t{1} << 53) + 1 + 3 * i, i % 3, diameter, 2500.0, x, v);  // 2^53 + 1: not a double
     p.omega[i] = next();
     p.force[i] = next();
     p.contact_count[i] = i + 1 == n ? INT_MAX : 5 * i;
@@ -98,6 +98,8 @@ void write_reference(const std::string& path, const Particles& p) {
   vec("Points", p.position);
   std::fprintf(f, "id Int64 1 %zu\n", n);
   for (auto id : p.id) std::fprintf(f, "%lld\n", static_cast<long long>(id));
+  std::fprintf(f, "material Int32 1 %zu\n", n);
+  for (int m : p.material) std::fprintf(f, "%d\n", m);
   std::fprintf(f, "diameter Float64 1 %zu\n", n);
   for (double r : p.radius) std::fprintf(f, "%.17g\n", 2 * r);
   vec("velocity", p.velocity);
@@ -112,7 +114,7 @@ void expect_round_trip(int n) {
   TempDir dir;
   const Particles p = make_particles(n);
   const std::string vtu = dir.file("frame.vtu"), ref = dir.file("frame.ref");
-  tsubu::write_vtu(vtu, p);
+  tsubu::write_vtu(vtu, p, 0.25);
   write_reference(ref, p);
   EXPECT_EQ(readback(vtu + " " + ref), 0) << n << " particles: " << vtu << " does not read back as " << ref;
 }
@@ -146,7 +148,7 @@ TEST(VtkReadback, PvdIndexNamesFramesAtExactTimes) {
   ASSERT_NE(ref, nullptr);
   for (int k = 0; k < 2; ++k) {
     const std::string name = "frame_0000" + std::to_string(k) + ".vtu";
-    tsubu::write_vtu(dir.file(name), make_particles(sizes[k]));
+    tsubu::write_vtu(dir.file(name), make_particles(sizes[k]), times[k]);
     pvd.add(times[k], name);
     std::fprintf(ref, "%.17g %s %d\n", times[k], name.c_str(), sizes[k]);
   }

@@ -82,7 +82,7 @@ TEST(WriteErrors, AFailedFrameWriteStopsTheRun) {
                        file_size_limit(32 * 1024));
   const std::string log = slurp(dir.path() / "log");
   ASSERT_EQ(code, 5) << log;
-  EXPECT_NE(log.find("cannot write " + (out / "vtk" / "frame_00000.vtu").string()), std::string::npos) << log;
+  EXPECT_NE(log.find("cannot write " + (out / "frames" / "frame_00000.vtu").string()), std::string::npos) << log;
   expect_whole_run_json(out);
 }
 

@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 
@@ -412,6 +413,23 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   std::ostringstream s;
   s << in.rdbuf();
   return decode_checkpoint(s.str());
+}
+
+World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesystem::path& file) {
+  World world = build_empty_world(sc);
+  world.particles = std::move(c.particles);
+  world.pair_contacts = std::move(c.pair_contacts);
+  world.wall_contacts = std::move(c.wall_contacts);
+  world.step = c.step;
+  world.time = c.time;
+  for (const Contact& k : world.wall_contacts)
+    if (k.j >= world.walls.size()) throw std::runtime_error(file.string() + ": a wall contact names a wall the scenario lacks");
+  if (c.wall_points.size() != world.walls.size())
+    throw std::runtime_error(file.string() + ": it stores " + std::to_string(c.wall_points.size()) +
+                             " walls, the scenario has " + std::to_string(world.walls.size()));
+  for (std::size_t k = 0; k < world.walls.size(); ++k)
+    world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
+  return world;
 }
 
 }  // namespace tsubu

@@ -11,6 +11,7 @@
 
 #include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
+#include "tsubu/scenario/scenario.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -84,5 +85,9 @@ std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path&
 // checkpoints and any leftover temporary files. Returns the file written.
 std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const Checkpoint& c, int keep = 2);
 Checkpoint read_checkpoint(const std::filesystem::path& file);
+
+// The world of checkpoint c (read from `file`, named in errors) under its scenario sc: the
+// particles and contact lists are moved out of c; the walls stand where they were.
+World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesystem::path& file);
 
 }  // namespace tsubu

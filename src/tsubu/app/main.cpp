@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
+#include "tsubu/app/export.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
@@ -42,6 +44,13 @@ int main(int argc, char** argv) {
   resume->add_option("--set", overrides,
                      "extend the run: simulation.duration, output.*_interval, output.checkpoint_every_* (TOML value)");
 
+  std::string export_dir, export_to;
+  double export_at = 0;
+  auto* exporter = app.add_subcommand("export", "write a run's checkpoint as particle and contact CSV files");
+  exporter->add_option("dir", export_dir, "the run's output folder (holding checkpoint/)")->required();
+  auto* at = exporter->add_option("--at", export_at, "the checkpoint at or just before this time, s (default: the newest)");
+  exporter->add_option("--to", export_to, "folder for the CSV files (default: DIR/export)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,7 +58,15 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (!check->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
+    if (run->parsed() || resume->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
+    if (exporter->parsed()) {
+      const tsubu::ExportedState e = tsubu::export_checkpoint(
+          export_dir, at->count() ? std::optional<double>(export_at) : std::nullopt,
+          export_to.empty() ? std::filesystem::path(export_dir) / "export" : std::filesystem::path(export_to));
+      std::printf("exported %s (step %lld, t = %.9g s):\n  %s\n  %s\n", e.checkpoint.string().c_str(),
+                  static_cast<long long>(e.step), e.time, e.particles.string().c_str(), e.contacts.string().c_str());
+      return 0;
+    }
     if (resume->parsed()) {
 #ifdef _OPENMP
       omp_set_num_threads(threads);

@@ -20,7 +20,7 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
-#include "tsubu/io/vtk.hpp"
+#include "tsubu/io/frames.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -130,7 +130,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   World& world = sim.world();
   ForceField& forces = sim.forces();
   namespace fs = std::filesystem;
-  fs::create_directories(fs::path(out_dir) / "vtk");
   const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
   RunSummary summary;
   summary.particles = world.particles.size();
@@ -176,14 +175,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series << '\n';
   }
   series << std::setprecision(12);
-  PvdIndex pvd((fs::path(out_dir) / "vtk" / "particles.pvd").string());
-  if (from) {
-    for (const auto& [t, name] : from->output.pvd)
-      if (!fs::exists(fs::path(out_dir) / "vtk" / name))
-        throw std::runtime_error((fs::path(out_dir) / "vtk" / name).string() +
-                                 " is missing: the frames up to the checkpoint are part of the outputs a resume continues");
-    pvd.restore(from->output.pvd);
-  }
+  FrameSeries frames(out_dir, sc.output.contacts, !world.walls.empty());
+  if (from) frames.restore(from->output.pvd);
   // Index of particle `id` now (spatial sorting moves particles between indices).
   auto index_of = [&](std::int64_t id) {
     return static_cast<std::size_t>(std::find(world.particles.id.begin(), world.particles.id.end(), id) - world.particles.id.begin());
@@ -209,8 +202,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
             << p.contact_count[i] << '\n';
     }
   };
-  std::int64_t frame = from ? from->output.frame : 0;
-  std::vector<fs::path> unsynced_frames;  // frames written since the last checkpoint
   // Entering grains bring energy: no energy-growth check with an inflow.
   EnergyWatch energy_watch(world, inflow ? 0.0 : sc.energy_growth_limit);
   if (from) energy_watch.restore(from->energy_watch);
@@ -230,14 +221,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series << '\n';
     stop_reason = monitor.stop_reason();
   };
-  auto write_frame = [&] {
-    char name[40];
-    std::snprintf(name, sizeof name, "frame_%05lld.vtu", static_cast<long long>(frame++));
-    const fs::path file = fs::path(out_dir) / "vtk" / name;
-    write_vtu(file.string(), world.particles);
-    pvd.add(world.time, name);
-    unsynced_frames.push_back(file);
-  };
+  auto write_frame = [&] { frames.write(world, forces); };
 
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   const std::int64_t series_every = every(sc.output.series_interval, sc.dt);
@@ -282,8 +266,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
-    c.output.frame = frame;
-    c.output.pvd = pvd.frames();
+    c.output.frame = frames.count();
+    c.output.pvd = frames.frames();
     c.output.series_bytes = fs::file_size(series_path);
     c.output.track_bytes = track.is_open() ? fs::file_size(track_path) : 0;
     // The particles and contact lists are lent to the checkpoint, not copied (a copy of a
@@ -304,9 +288,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     try {
       sync_file(series_path);
       if (track.is_open()) sync_file(track_path);
-      for (const auto& f : unsynced_frames) sync_file(f);
-      if (!pvd.frames().empty()) sync_file(fs::path(out_dir) / "vtk" / "particles.pvd");
-      unsynced_frames.clear();
+      for (const auto& f : frames.unsynced()) sync_file(f);
+      frames.mark_synced();
       write_checkpoint(ckpt_dir, c);
       checkpoint_step = world.step;
     } catch (const std::exception& e) {
@@ -505,20 +488,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   if (stored.hash != c.scenario_hash || stored.dt != c.dt)
     throw std::runtime_error(used.string() + " does not match the scenario it stores (hash or dt differ)");
   const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
-  World world = build_empty_world(sc);
-  world.particles = std::move(c.particles);
-  world.pair_contacts = std::move(c.pair_contacts);
-  world.wall_contacts = std::move(c.wall_contacts);
-  world.step = c.step;
-  world.time = c.time;
-  for (const Contact& k : world.wall_contacts)
-    if (k.j >= world.walls.size()) throw std::runtime_error(used.string() + ": a wall contact names a wall the scenario lacks");
-  if (c.wall_points.size() != world.walls.size())
-    throw std::runtime_error(used.string() + ": it stores " + std::to_string(c.wall_points.size()) +
-                             " walls, the scenario has " + std::to_string(world.walls.size()));
-  for (std::size_t k = 0; k < world.walls.size(); ++k)
-    world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
-  Simulation sim(std::move(world), sc.integrator, sc.block_steps);
+  Simulation sim(world_of_checkpoint(sc, c, used), sc.integrator, sc.block_steps);
   // Fixed steps: lists rebuilt from the stored contacts at the next step; forces are NOT
   // recomputed. Block steps: the lists as they were, from the stored build positions.
   if (sim.block()) {

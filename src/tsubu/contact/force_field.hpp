@@ -17,6 +17,16 @@ struct ContactTotals {
   double max_overlap_ratio = 0;     // largest overlap / smaller diameter
 };
 
+// A touching contact as the last evaluation left it, for output (contact network frames,
+// tsubu export). `j` is the partner's particle index, or the wall's index when `wall`.
+struct ContactRecord {
+  std::uint32_t i = 0, j = 0;
+  bool wall = false;
+  Vec3 normal_force, tangential_force;  // N, on particle i; their sum is the contact's force on i
+  double overlap = 0;                   // m
+  ContactHistory history;               // the model's memory (tangential spring, normal slots)
+};
+
 // Block steps: how an evaluation bounds the next step of each particle from its contacts
 // (docs/integrators.md, step rules). A touching contact allows kappa_c times the shorter
 // of its collision time at the current approach speed (Eq. 20, speed floored at u_floor)
@@ -86,6 +96,11 @@ class ForceField {
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).
   ContactTotals totals(const World& world) const;
+  // Every touching contact of the last evaluation: pairs in list order, then walls (a pass
+  // over all contacts: call it for output). The tangential force is recovered from the
+  // stored n x F_t with the normal of the current positions; the normal force is the rest
+  // of the stored force, so the two add up to it exactly.
+  std::vector<ContactRecord> touching_contacts(const World& world) const;
   // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
   // N, from the last evaluation.
   double wall_load(const World& world, std::size_t wall) const;

@@ -1,5 +1,7 @@
 #include "tsubu/io/vtk.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <iomanip>
@@ -39,15 +41,37 @@ void vec_array(std::ostream& f, const char* name, const std::vector<Vec3>& v) {
   data_array(f, "Float64", name, 3, flat);
 }
 
+// The file's opening up to its <Piece>, with the time as field data (ParaView reads TimeValue
+// as the data set's time; %.17g reads back as the same double).
+void open_dataset(std::ostream& f, const char* type, double time) {
+  f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"" << type
+    << "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<" << type
+    << ">\n<FieldData>\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">"
+    << std::setprecision(17) << time << "</DataArray>\n</FieldData>\n";
+}
+
+void close_dataset(std::ostream& f, const char* type) { f << "</Piece>\n</" << type << ">\n</VTKFile>\n"; }
+
+// PolyData cells: <Lines> or <Polys> of `corners` consecutive points each.
+void poly_cells(std::ostream& f, const char* kind, std::size_t cells, std::size_t corners) {
+  std::vector<std::int64_t> connectivity(cells * corners), offsets(cells);
+  for (std::size_t k = 0; k < connectivity.size(); ++k) connectivity[k] = static_cast<std::int64_t>(k);
+  for (std::size_t c = 0; c < cells; ++c) offsets[c] = static_cast<std::int64_t>((c + 1) * corners);
+  f << "<" << kind << ">\n";
+  data_array(f, "Int64", "connectivity", 1, connectivity);
+  data_array(f, "Int64", "offsets", 1, offsets);
+  f << "</" << kind << ">\n";
+}
+
 }  // namespace
 
-void write_vtu(const std::string& path, const Particles& p) {
+void write_vtu(const std::string& path, const Particles& p, double time) {
   const std::size_t n = p.size();
   CheckedFile f(path);
-  f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-       "header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-    << n << "\" NumberOfCells=\"" << n << "\">\n<PointData Scalars=\"diameter\" Vectors=\"velocity\">\n";
+  open_dataset(f, "UnstructuredGrid", time);
+  f << "<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n<PointData Scalars=\"diameter\" Vectors=\"velocity\">\n";
   data_array(f, "Int64", "id", 1, p.id);
+  data_array(f, "Int32", "material", 1, p.material);
   std::vector<double> diameter(n);
   for (std::size_t i = 0; i < n; ++i) diameter[i] = 2 * p.radius[i];
   data_array(f, "Float64", "diameter", 1, diameter);
@@ -64,7 +88,85 @@ void write_vtu(const std::string& path, const Particles& p) {
   data_array(f, "Int64", "connectivity", 1, connectivity);
   data_array(f, "Int64", "offsets", 1, offsets);
   data_array(f, "UInt8", "types", 1, types);
-  f << "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  f << "</Cells>\n";
+  close_dataset(f, "UnstructuredGrid");
+  f.close();
+}
+
+void write_contacts_vtp(const std::string& path, const std::vector<NetworkContact>& contacts, double time) {
+  const std::size_t n = contacts.size();
+  std::vector<Vec3> points, point(n), branch(n), fn(n), ft(n), xi(n);
+  std::vector<std::int64_t> id_i(n), id_j(n);
+  std::vector<std::int32_t> wall(n);
+  std::vector<double> overlap(n), normal_history(2 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const NetworkContact& c = contacts[k];
+    points.push_back(c.centre_i);
+    points.push_back(c.centre_i + c.branch);
+    id_i[k] = c.id_i, id_j[k] = c.id_j, wall[k] = c.wall;
+    point[k] = c.point, branch[k] = c.branch, fn[k] = c.normal_force, ft[k] = c.tangential_force;
+    overlap[k] = c.overlap, xi[k] = c.history.xi;
+    normal_history[2 * k] = c.history.normal[0], normal_history[2 * k + 1] = c.history.normal[1];
+  }
+  CheckedFile f(path);
+  open_dataset(f, "PolyData", time);
+  f << "<Piece NumberOfPoints=\"" << 2 * n << "\" NumberOfLines=\"" << n << "\">\n<Points>\n";
+  vec_array(f, "position", points);
+  f << "</Points>\n";
+  poly_cells(f, "Lines", n, 2);
+  f << "<CellData Vectors=\"normal_force\">\n";
+  data_array(f, "Int64", "id_i", 1, id_i);
+  data_array(f, "Int64", "id_j", 1, id_j);
+  data_array(f, "Int32", "wall", 1, wall);
+  vec_array(f, "contact_point", point);
+  vec_array(f, "branch", branch);
+  vec_array(f, "normal_force", fn);
+  vec_array(f, "tangential_force", ft);
+  data_array(f, "Float64", "overlap", 1, overlap);
+  vec_array(f, "tangential_spring", xi);
+  data_array(f, "Float64", "normal_history", 2, normal_history);
+  f << "</CellData>\n";
+  close_dataset(f, "PolyData");
+  f.close();
+}
+
+void write_walls_vtp(const std::string& path, const std::vector<Wall>& walls, const Domain& domain, double time) {
+  const std::size_t n = walls.size();
+  std::vector<Vec3> points, normal(n), velocity(n);
+  std::vector<std::int32_t> index(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Wall& w = walls[k];
+    // Tangents u, v of the plane: u across the axis least aligned with the normal.
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (std::abs(w.normal[a]) < std::abs(w.normal[axis])) axis = a;
+    Vec3 e;
+    e[axis] = 1;
+    const Vec3 u = cross(w.normal, e) / norm(cross(w.normal, e)), v = cross(w.normal, u);
+    // The box corners seen along the normal, in (u, v) about the wall's point.
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 corner{c & 1 ? domain.upper.x : domain.lower.x, c & 2 ? domain.upper.y : domain.lower.y,
+                        c & 4 ? domain.upper.z : domain.lower.z};
+      const double at[2] = {dot(corner - w.point, u), dot(corner - w.point, v)};
+      for (int t = 0; t < 2; ++t) lo[t] = std::min(lo[t], at[t]), hi[t] = std::max(hi[t], at[t]);
+    }
+    for (const auto& [a, b] : {std::pair{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}})
+      points.push_back(w.point + a * u + b * v);
+    index[k] = static_cast<std::int32_t>(k), normal[k] = w.normal, velocity[k] = w.velocity;
+  }
+  CheckedFile f(path);
+  open_dataset(f, "PolyData", time);
+  f << "<Piece NumberOfPoints=\"" << 4 * n << "\" NumberOfPolys=\"" << n << "\">\n<Points>\n";
+  vec_array(f, "position", points);
+  f << "</Points>\n";
+  poly_cells(f, "Polys", n, 4);
+  f << "<CellData Normals=\"normal\">\n";
+  data_array(f, "Int32", "wall", 1, index);
+  vec_array(f, "normal", normal);
+  vec_array(f, "velocity", velocity);
+  f << "</CellData>\n";
+  close_dataset(f, "PolyData");
   f.close();
 }
 

@@ -395,10 +395,11 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
 void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {
   ParticleSource src;
   src.where = {s.file(), s.line(), s.path()};
-  const std::string kind = s.choice("source", {"csv", "lattice", "random", "inflow"}, std::nullopt);
-  src.material = material_index(sc, s, "material");
-  if (kind == "csv") {
-    src.kind = ParticleSource::Kind::csv;
+  const std::string kind = s.choice("source", {"csv", "file", "lattice", "random", "inflow"}, std::nullopt);
+  // A file source's rows name their own materials.
+  if (kind != "file") src.material = material_index(sc, s, "material");
+  if (kind == "csv" || kind == "file") {
+    src.kind = kind == "csv" ? ParticleSource::Kind::csv : ParticleSource::Kind::file;
     const std::filesystem::path f = s.text("file");
     src.file = (f.is_absolute() ? f : folder / f).lexically_normal().string();
     if (particle_files && !std::filesystem::is_regular_file(src.file)) s.fail("file", "no such file \"" + src.file + "\" (relative paths start at the scenario's folder)");
@@ -432,6 +433,7 @@ void read_output(Section s, Scenario& sc) {
   sc.output.vtk_interval = s.real("vtk_interval", sc.duration / 50);
   sc.output.series_interval = s.real("series_interval", sc.duration / 200);
   if (sc.output.vtk_interval < 0) s.fail("vtk_interval", "must be >= 0 (0 writes no frames)");
+  sc.output.contacts = s.flag("contacts", true);
   if (sc.output.series_interval < 0) s.fail("series_interval", "must be >= 0 (0 writes every step)");
   sc.output.track = s.integers("track", {});
   sc.output.track_interval = s.real("track_interval", sc.output.series_interval);
@@ -480,12 +482,12 @@ void read_fluid(Section s, Scenario& sc) {
   s.finish();
 }
 
-// The largest diameter the scenario's generated sources can hold (0 with CSV files only).
+// The largest diameter the scenario's generated sources can hold (0 with particle files only).
 double largest_generated(const Scenario& sc) {
   double d = 0;
   for (const ParticleSource& src : sc.sources)
     d = std::max(d, src.kind == ParticleSource::Kind::lattice ? src.diameter
-                    : src.kind == ParticleSource::Kind::csv   ? 0.0
+                    : src.kind == ParticleSource::Kind::csv || src.kind == ParticleSource::Kind::file ? 0.0
                                                               : src.sizes.largest());
   return d;
 }

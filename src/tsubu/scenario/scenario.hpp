@@ -24,12 +24,12 @@ struct SourceLocation {
 };
 
 struct ParticleSource {
-  enum class Kind { csv, lattice, random, inflow };
+  enum class Kind { csv, file, lattice, random, inflow };
   Kind kind = Kind::csv;
   SourceLocation where;
   int material = 0;
-  std::string file;                // csv: path (resolved against the scenario's folder)
-  double overlap_tolerance = 0.01; // csv: largest allowed overlap / smaller diameter
+  std::string file;                // csv, file: path (resolved against the scenario's folder)
+  double overlap_tolerance = 0.01; // csv, file: largest allowed overlap / smaller diameter
   Vec3 lower, upper;               // lattice, random: region, m
   double diameter = 0;             // lattice, m
   double spacing = 0;              // lattice, m
@@ -51,6 +51,7 @@ struct PairContactSpec {
 struct OutputSpec {
   std::string dir;             // empty: out/<name>
   double vtk_interval = 0;     // s, 0 = no frames
+  bool contacts = true;        // the contact network with every frame
   double series_interval = 0;  // s
   std::vector<std::int64_t> track;  // particle ids written to track.csv
   double track_interval = 0;        // s, 0 = every step

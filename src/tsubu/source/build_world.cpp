@@ -59,7 +59,7 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
     std::ostringstream s;
     s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
       << " of the smaller diameter; allowed up to " << std::min(tolerance[i], tolerance[earliest])
-      << " (overlap_tolerance of csv sources; lattice and random particles may only touch)";
+      << " (overlap_tolerance of csv and file sources; lattice and random particles may only touch)";
     fail_at(grains[i].where, s.str());
   }
 }
@@ -144,16 +144,20 @@ World build_world(const Scenario& sc) {
   for (const auto& src : sc.sources) {
     if (src.kind == ParticleSource::Kind::inflow) continue;  // its grains arrive during the run
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
+                           : src.kind == ParticleSource::Kind::file    ? read_state_grains(src, sc.materials.size())
                            : src.kind == ParticleSource::Kind::lattice ? lattice_grains(src)
                                                                        : random_grains(src, sc.domain, rng);
+    const bool from_file = src.kind == ParticleSource::Kind::csv || src.kind == ParticleSource::Kind::file;
     for (auto& grain : g) {
       if (!sc.domain.inside(grain.position))
         fail_at(grain.where, "particle centre " + format_vec(grain.position) + " is outside the domain " +
                                  format_vec(sc.domain.lower) + " - " + format_vec(sc.domain.upper));
       grain.position = sc.domain.wrap(grain.position);
-      const auto& mat = sc.materials[static_cast<std::size_t>(src.material)];
-      w.particles.add(static_cast<std::int64_t>(grains.size()), src.material, grain.diameter, mat.density,
+      const int material = grain.material >= 0 ? grain.material : src.material;
+      const auto& mat = sc.materials[static_cast<std::size_t>(material)];
+      w.particles.add(static_cast<std::int64_t>(grains.size()), material, grain.diameter, mat.density,
                       grain.position, grain.velocity);
+      w.particles.omega.back() = grain.omega;
       // A diameter too small (or large) for doubles gives a zero, subnormal or infinite mass
       // or inertia, which the integrators divide by.
       const double mass = w.particles.mass.back(), inertia = w.particles.inertia.back();
@@ -166,7 +170,7 @@ World build_world(const Scenario& sc) {
       }
       grains.push_back(grain);
       // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
-      tolerance.push_back(src.kind == ParticleSource::Kind::csv ? src.overlap_tolerance : 1e-9);
+      tolerance.push_back(from_file ? src.overlap_tolerance : 1e-9);
     }
   }
   double d_max = 2 * std::accumulate(w.particles.radius.begin(), w.particles.radius.end(), 0.0,

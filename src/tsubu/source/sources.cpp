@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -47,20 +48,29 @@ std::vector<Grain> read_csv_grains(const ParticleSource& src) {
   return parse_csv_grains(in, src.file);
 }
 
-std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
-  std::vector<Grain> out;
+namespace {
+
+// The rows of a CSV particle file: each data line's numbers, with its line number. As
+// spreadsheets write it: a UTF-8 byte-order mark, CRLF line ends, tabs between fields (in a
+// line without commas), spaces around them, a leading '+'. Blank lines and lines starting
+// with '#' are skipped, and so is a header: a line before the first row whose first field
+// starts with `header`'s first letter (either case). A field that is not a finite number is
+// an error naming the column (`columns`, in order) and the format `rows`.
+template <class Row>
+void for_each_csv_row(std::istream& in, const std::string& name, const std::vector<const char*>& columns,
+                      const std::string& rows, Row&& row) {
   std::string line;
   long number = 0;
+  bool any = false;
+  const char header = columns.front()[0];
   while (std::getline(in, line)) {
     ++number;
-    // As spreadsheets write it: a UTF-8 byte-order mark, CRLF line ends, tabs between fields
-    // (in a line without commas), an upper-case header.
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find(',') == std::string::npos) std::replace(line.begin(), line.end(), '\t', ',');
     const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;
-    if (out.empty() && (line[first] == 'x' || line[first] == 'X')) continue;  // header, before the first row
+    if (!any && std::tolower(static_cast<unsigned char>(line[first])) == header) continue;
     std::vector<double> v;
     std::size_t start = 0;
     for (;;) {
@@ -72,21 +82,58 @@ std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
       double x = 0;
       const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
       if (ec != std::errc() || ptr != field.data() + field.size() || !std::isfinite(x))
-        throw InputError(name, number, v.size() < 7 ? kColumns[v.size()] : "",
-                         "\"" + std::string(field) + "\" is not a finite number; rows are x,y,z,d[,vx,vy,vz] in SI units");
+        throw InputError(name, number, v.size() < columns.size() ? columns[v.size()] : "",
+                         "\"" + std::string(field) + "\" is not a finite number; rows are " + rows);
       v.push_back(x);
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
+    any = true;
+    row(v, number);
+  }
+  if (!any) throw InputError(name, number, "", "no particles in the file");
+}
+
+}  // namespace
+
+std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
+  std::vector<Grain> out;
+  const std::vector<const char*> columns(std::begin(kColumns), std::end(kColumns));
+  for_each_csv_row(in, name, columns, "x,y,z,d[,vx,vy,vz] in SI units", [&](const std::vector<double>& v, long number) {
     if (v.size() != 4 && v.size() != 7)
       throw InputError(name, number, "", "expected 4 or 7 numbers (x,y,z,d[,vx,vy,vz]), got " + std::to_string(v.size()));
     if (!(v[3] > 0)) throw InputError(name, number, "d", "the diameter must be > 0 (metres)");
-    Grain g{{v[0], v[1], v[2]}, {}, v[3], {name, number, ""}};
+    Grain g{{v[0], v[1], v[2]}, {}, v[3], {name, number, ""}, {}, -1};
     if (v.size() == 7) g.velocity = {v[4], v[5], v[6]};
     out.push_back(g);
     if (out.size() > particle_limit()) throw InputError(name, number, "", too_many(0));
-  }
-  if (out.empty()) throw InputError(name, number, "", "no particles in the file");
+  });
+  return out;
+}
+
+std::vector<Grain> read_state_grains(const ParticleSource& src, std::size_t materials) {
+  std::ifstream in(src.file);
+  if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
+  return parse_state_grains(in, src.file, materials);
+}
+
+std::vector<Grain> parse_state_grains(std::istream& in, const std::string& name, std::size_t materials) {
+  std::vector<Grain> out;
+  const std::vector<const char*> columns = {"id", "material", "radius", "x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"};
+  const std::string rows = "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz in SI units, as tsubu export writes them";
+  for_each_csv_row(in, name, columns, rows, [&](const std::vector<double>& v, long number) {
+    if (v.size() != columns.size())
+      throw InputError(name, number, "", "expected 12 numbers, got " + std::to_string(v.size()) + "; rows are " + rows);
+    if (v[0] != std::floor(v[0])) throw InputError(name, number, "id", "must be an integer");
+    if (!(v[1] >= 0 && v[1] < static_cast<double>(materials) && v[1] == std::floor(v[1])))
+      throw InputError(name, number, "material",
+                       "must be the index of one of the scenario's " + std::to_string(materials) +
+                           " [[materials]] (0 to " + std::to_string(materials - 1) + ", in the order of the file)");
+    if (!(v[2] > 0)) throw InputError(name, number, "radius", "the radius must be > 0 (metres)");
+    const Grain g{{v[3], v[4], v[5]}, {v[6], v[7], v[8]}, 2 * v[2], {name, number, ""}, {v[9], v[10], v[11]}, static_cast<int>(v[1])};
+    out.push_back(g);
+    if (out.size() > particle_limit()) throw InputError(name, number, "", too_many(0));
+  });
   return out;
 }
 
@@ -107,7 +154,7 @@ std::vector<Grain> lattice_grains(const ParticleSource& src) {
     for (int j = 0; j < count[1]; ++j)
       for (int i = 0; i < count[0]; ++i)
         out.push_back({src.lower + Vec3{r + i * src.spacing, r + j * src.spacing, r + k * src.spacing}, src.velocity,
-                       src.diameter, src.where});
+                       src.diameter, src.where, {}, -1});
   return out;
 }
 
@@ -145,7 +192,7 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
         x[k] = wrap[k] ? rng.uniform(src.lower[k], src.upper[k]) : rng.uniform(src.lower[k] + r, src.upper[k] - r);
       if (placed_grains.overlaps(x, r)) continue;
       placed_grains.add(x, r);
-      out.push_back({x, src.velocity, d, src.where});
+      out.push_back({x, src.velocity, d, src.where, {}, -1});
       placed = true;
     }
     if (!placed)

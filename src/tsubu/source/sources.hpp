@@ -14,6 +14,8 @@ struct Grain {
   Vec3 position, velocity;
   double diameter = 0;
   SourceLocation where;
+  Vec3 omega;         // rad/s, initial spin (file sources; zero otherwise)
+  int material = -1;  // file sources: the row's material; -1: the source's
 };
 
 // The most particles a run may hold on this machine: its physical memory over a generous
@@ -25,6 +27,12 @@ inline constexpr std::size_t kBytesPerParticle = 2048;
 std::vector<Grain> read_csv_grains(const ParticleSource& src);
 // The same from a stream; `name` is the file name the errors give.
 std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name);
+
+// The particle state `tsubu export` writes: `id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz`
+// (SI units, material = index into the scenario's [[materials]], `materials` of them), one
+// header line. Errors name file:line and the column.
+std::vector<Grain> read_state_grains(const ParticleSource& src, std::size_t materials);
+std::vector<Grain> parse_state_grains(std::istream& in, const std::string& name, std::size_t materials);
 
 // Simple cubic lattice filling [lower, upper] with `spacing` between centres.
 std::vector<Grain> lattice_grains(const ParticleSource& src);

@@ -1,0 +1,28 @@
+// ForceField's view of its contacts for output: read from the stored results after an
+// evaluation, outside the stepping loop.
+#include "tsubu/contact/force_field.hpp"
+
+namespace tsubu {
+
+std::vector<ContactRecord> ForceField::touching_contacts(const World& world) const {
+  const Particles& p = world.particles;
+  std::vector<ContactRecord> out;
+  auto add = [&](const Contact& c, const Results::Entry& e, bool wall, const Vec3& n) {
+    // n x F_t with F_t in the tangent plane: F_t = (n x F_t) x n.
+    const Vec3 tangential = cross(e.n_x_ft, n);
+    out.push_back({c.i, c.j, wall, e.force_i - tangential, tangential, e.delta, c.history});
+  };
+  for (std::size_t k = 0; k < world.pair_contacts.size() && k < pair_results_.entry.size(); ++k) {
+    const Contact& c = world.pair_contacts[k];
+    if (!c.touching) continue;
+    const Vec3 d = world.domain.separation(p.position[c.i], p.position[c.j]);
+    add(c, pair_results_.entry[k], false, d / norm(d));
+  }
+  for (std::size_t k = 0; k < world.wall_contacts.size() && k < wall_results_.entry.size(); ++k) {
+    const Contact& c = world.wall_contacts[k];
+    if (c.touching) add(c, wall_results_.entry[k], true, world.walls[c.j].normal);
+  }
+  return out;
+}
+
+}  // namespace tsubu

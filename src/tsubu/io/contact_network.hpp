@@ -1,0 +1,31 @@
+// The contact network of a state: every touching contact with its geometry and forces, as
+// LIGGGHTS' compute pair/gran/local lists them, and its CSV form (docs/cli.md, output folder).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tsubu/contact/force_field.hpp"
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+struct NetworkContact {
+  std::int64_t id_i = 0;  // particle ids
+  std::int64_t id_j = -1; // -1 for a wall contact
+  int wall = -1;          // wall index, -1 for a pair
+  Vec3 centre_i;          // m, particle i's centre
+  Vec3 point;             // m, mid-overlap on the line of centres (pair) or on the plane (wall)
+  Vec3 branch;            // m, from i's centre to j's (nearest periodic image) or to `point` (wall)
+  Vec3 normal_force, tangential_force;  // N, on particle i
+  double overlap = 0;     // m
+  ContactHistory history;
+};
+
+// The network from the force field's contacts (ForceField::touching_contacts), in their order.
+std::vector<NetworkContact> contact_network(const World& world, const std::vector<ContactRecord>& contacts);
+
+// One row per contact, a header naming each column with its unit. Checked writes.
+void write_contacts_csv(const std::string& path, const std::vector<NetworkContact>& contacts, double time);
+
+}  // namespace tsubu
