@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <utility>
 
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/runner.hpp"
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
                   w.walls.size(), w.materials.size());
       if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
         for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
-      print_time_scales(sc, w, threads);
+      print_time_scales(sc, std::move(w), threads);
       return 0;
     }
     if (run->count("--out") > 0 && out_dir.empty()) throw tsubu::UsageError("--out is empty; give a folder name");
