@@ -2,19 +2,73 @@
 // (scenario, command line, output folder), 3 numerical failure, 4 stopped by SIGINT/SIGTERM
 // (a checkpoint was written), 5 an output could not be written.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
+#include <utility>
 
 #include "tsubu/app/export.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/sim/time_scales.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+
+namespace {
+
+constexpr int kMaxThreads = 1024;
+
+// The threads of a run when --threads is not given: OMP_NUM_THREADS, as OpenMP programs
+// read it, else 1. A value that is not one whole number from 1 to kMaxThreads is refused.
+int threads_from_environment() {
+  const char* text = std::getenv("OMP_NUM_THREADS");
+  if (!text) return 1;
+  char* end = nullptr;
+  const long n = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || n < 1 || n > kMaxThreads)
+    throw tsubu::UsageError(std::string("OMP_NUM_THREADS=") + text + ": must be a whole number of threads from 1 to " +
+                            std::to_string(kMaxThreads) + " (or unset it, or give --threads N)");
+  return static_cast<int>(n);
+}
+
+// What `tsubu check` prints about the time step (docs/cli.md, "Time scales and the time step").
+void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int threads) {
+  const tsubu::TimeScales ts = tsubu::time_scales(sc, world);
+  std::printf("time scales (impact speed %.3g m/s: %s):\n", ts.impact_speed, ts.impact_reason.c_str());
+  for (const tsubu::GrainTimes& g : ts.grains) {
+    std::printf("  %s d = %.4g m: contact %.3g s, Rayleigh %.3g s", sc.materials[g.material].name.c_str(), g.diameter,
+                g.contact_time, g.rayleigh_time);
+    if (std::isfinite(g.relaxation_time))
+      std::printf(", fluid relaxation %.3g s (at its terminal speed %.3g m/s)", g.relaxation_time, g.terminal_speed);
+    std::printf("\n");
+  }
+  if (std::isfinite(ts.shortest_contact))
+    std::printf("  shortest contact: %.3g s (%s)\n", ts.shortest_contact, ts.shortest_contact_what.c_str());
+  const char* verdict = ts.safe ? "safe" : ts.warnings.empty() ? "above the suggestion" : "NOT safe (see the warning)";
+  std::printf("dt = %.3g s (%s): suggested dt <= %.3g s (%s); %s\n", sc.dt, tsubu::integrator_name(sc.integrator),
+              ts.suggested_dt, ts.suggestion.c_str(), verdict);
+  if (std::isfinite(ts.shortest_contact) && sc.integrator != tsubu::Integrator::block_hermite)
+    std::printf("  %.3g steps per shortest contact\n", ts.shortest_contact / sc.dt);
+  std::printf("steps: %lld\n", static_cast<long long>(ts.steps));
+  const tsubu::WallTimeEstimate e = tsubu::estimate_wall_time(sc, std::move(world), 300, 1.0);
+  if (!e.failure.empty())
+    std::printf("estimated wall time: none, the timing sample failed after %lld steps: %s\n",
+                static_cast<long long>(e.sampled_steps), e.failure.c_str());
+  else
+    std::printf("estimated wall time: %.3g s (an estimate: %lld steps timed in %.3g s on %d thread%s, of the particles "
+                "present at the start%s)\n",
+                e.run_seconds, static_cast<long long>(e.sampled_steps), e.sample_seconds, threads, threads == 1 ? "" : "s",
+                tsubu::inflow_source(sc) ? "; the inflow adds grains as the run goes, so it will take longer" : "");
+  for (const std::string& w : ts.warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"tsubu: discrete element method engine for spherical grains"};
@@ -23,24 +77,26 @@ int main(int argc, char** argv) {
 
   std::string scenario_path, out_dir;
   std::vector<std::string> overrides;
-  int threads = 1;
+  int threads = 0;  // 0: not given (OMP_NUM_THREADS, else 1)
   bool overwrite = false;
 
   auto* run = app.add_subcommand("run", "run a scenario");
   run->add_option("scenario", scenario_path, "scenario file (TOML)")->required();
   run->add_option("--out", out_dir, "output folder (default: out/<scenario name>)");
-  run->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
+  run->add_option("--threads", threads, "OpenMP threads (default OMP_NUM_THREADS, else 1)")->check(CLI::Range(1, kMaxThreads));
   run->add_option("--set", overrides, "override a scenario value: key.path=value (TOML value)");
   run->add_flag("--overwrite", overwrite, "replace the outputs of an earlier run in the output folder (cleared first)");
 
   auto* check = app.add_subcommand("check", "validate a scenario and build its particles, without running");
   check->add_option("scenario", scenario_path, "scenario file (TOML)")->required();
   check->add_option("--set", overrides, "override a scenario value: key.path=value (TOML value)");
+  check->add_option("--threads", threads, "OpenMP threads of the timing sample (default OMP_NUM_THREADS, else 1)")
+      ->check(CLI::Range(1, kMaxThreads));
 
   std::string resume_dir;
   auto* resume = app.add_subcommand("resume", "continue an interrupted run from its newest valid checkpoint");
   resume->add_option("dir", resume_dir, "the run's output folder (holding checkpoint/)")->required();
-  resume->add_option("--threads", threads, "OpenMP threads (default 1)")->check(CLI::Range(1, 1024));
+  resume->add_option("--threads", threads, "OpenMP threads (default OMP_NUM_THREADS, else 1)")->check(CLI::Range(1, kMaxThreads));
   resume->add_option("--set", overrides,
                      "extend the run: simulation.duration, output.*_interval, output.checkpoint_every_* (TOML value)");
 
@@ -67,10 +123,11 @@ int main(int argc, char** argv) {
                   static_cast<long long>(e.step), e.time, e.particles.string().c_str(), e.contacts.string().c_str());
       return 0;
     }
-    if (resume->parsed()) {
+    if (threads == 0) threads = threads_from_environment();
 #ifdef _OPENMP
-      omp_set_num_threads(threads);
+    omp_set_num_threads(threads);
 #endif
+    if (resume->parsed()) {
       const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true, overrides);
       std::printf("resumed: %lld steps of %zu particles; output in %s\n", static_cast<long long>(s.steps), s.particles,
                   resume_dir.c_str());
@@ -79,16 +136,14 @@ int main(int argc, char** argv) {
     }
     const tsubu::Scenario sc = tsubu::load_scenario(scenario_path, overrides);
     if (check->parsed()) {
-      const tsubu::World w = tsubu::build_world(sc);
+      tsubu::World w = tsubu::build_world(sc);
       std::printf("%s: ok (%zu particles, %zu walls, %zu materials)\n", scenario_path.c_str(), w.particles.size(),
                   w.walls.size(), w.materials.size());
       if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
         for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
+      print_time_scales(sc, std::move(w), threads);
       return 0;
     }
-#ifdef _OPENMP
-    omp_set_num_threads(threads);
-#endif
     if (run->count("--out") > 0 && out_dir.empty()) throw tsubu::UsageError("--out is empty; give a folder name");
     if (out_dir.empty()) out_dir = sc.output.dir.empty() ? "out/" + sc.name : sc.output.dir;
     const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, true, overwrite);

@@ -24,6 +24,7 @@
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/simulation.hpp"
+#include "tsubu/sim/time_scales.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
 
@@ -35,15 +36,6 @@ namespace {
 // so that only the first and last step write.
 std::int64_t every(double interval, double dt) {
   return std::max<std::int64_t>(1, std::llround(std::min(interval / dt, 0x1p62)));
-}
-
-const char* integrator_name(Integrator i) {
-  switch (i) {
-    case Integrator::symplectic_euler: return "symplectic_euler";
-    case Integrator::velocity_verlet: return "velocity_verlet";
-    case Integrator::block_hermite: return "block_hermite";
-  }
-  return "";
 }
 
 std::string json_escape(const std::string& s) {
@@ -446,6 +438,7 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
   Simulation sim(build_world(sc), sc.integrator, sc.block_steps);  // bad input is reported before the folder is touched
+  for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
   const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
   return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);
 }

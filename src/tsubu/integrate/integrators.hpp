@@ -10,6 +10,16 @@ namespace tsubu {
 // block_hermite: BlockHermite (block_hermite.hpp), not a fixed-step scheme.
 enum class Integrator { symplectic_euler, velocity_verlet, block_hermite };
 
+// The scenario's name of an integrator (simulation.integrator).
+inline const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::symplectic_euler: return "symplectic_euler";
+    case Integrator::velocity_verlet: return "velocity_verlet";
+    case Integrator::block_hermite: return "block_hermite";
+  }
+  return "";
+}
+
 // Forces are divided by the translational mass (mass plus the fluid's added mass).
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
 void symplectic_euler_step(World& world, ForceField& forces);

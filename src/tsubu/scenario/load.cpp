@@ -1,6 +1,7 @@
 // Scenario loading: TOML -> checked plain structs. Keys are documented in docs/scenario.md;
 // keep the two in step.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,6 +38,14 @@ std::string read_text(const std::string& path) {
   return text;
 }
 
+// The end of the message for a --set value that is not TOML: a bare word (a letter first,
+// e.g. block_hermite) was most likely meant as a string, which TOML writes in quotes, and
+// the shell needs single quotes around it to keep them.
+std::string quoting_hint(const std::string& path, const std::string& value) {
+  if (value.empty() || !std::isalpha(static_cast<unsigned char>(value.front()))) return "";
+  return "; a string value needs quotes: --set '" + path + "=\"" + value + "\"'";
+}
+
 // --set key.path=value: the value is TOML ("0.5", "\"hertz_tsuji\"", "[0,0,-9.81]"); a
 // numeric path element selects an entry of an array of tables ("particles.0.file").
 void apply_override(toml::table& root, const std::string& text) {
@@ -62,7 +71,7 @@ void apply_override(toml::table& root, const std::string& text) {
     try {
       return toml::parse(keys + " = " + value, origin);
     } catch (const toml::parse_error& e) {
-      throw InputError(origin, 1, path, "the value is not valid TOML: " + std::string(e.description()));
+      throw InputError(origin, 1, path, "the value is not valid TOML: " + std::string(e.description()) + quoting_hint(path, value));
     }
   };
   toml::node* node = &root;

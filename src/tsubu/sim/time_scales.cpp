@@ -1,0 +1,259 @@
+#include "tsubu/sim/time_scales.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "tsubu/core/error.hpp"
+#include "tsubu/sim/simulation.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+double sphere_mass(double rho, double d) { return rho * M_PI * d * d * d / 6; }
+
+// How long a collision of the model lasts at approach speed u. The linear springs' half
+// period does not depend on u; for model HH it is the half period of its stiffest line,
+// k2max, which unloading follows after a deep contact.
+double contact_time(const NormalModel& model, double m_eff, double r_eff, double u) {
+  return std::visit(
+      [&](const auto& n) -> double {
+        using N = std::decay_t<decltype(n)>;
+        if constexpr (std::is_same_v<N, HookeHysteresis>)
+          return M_PI * std::sqrt(m_eff / (n.c_k2 * n.k_n(r_eff, m_eff)));
+        else if constexpr (std::is_same_v<N, EnergyConserving> || std::is_same_v<N, EnergyConserving2005>)
+          return M_PI * std::sqrt(m_eff / n.k_n);
+        else
+          return n.collision_time(m_eff, r_eff, u);
+      },
+      model);
+}
+
+const char* model_name(const NormalModel& model) {
+  return std::visit([](const auto& n) { return std::decay_t<decltype(n)>::name; }, model);
+}
+
+// Models P and F give the exact restitution in three steps whatever dt: a long contact is
+// not an error for them.
+bool exact_whatever_dt(const NormalModel& model) {
+  return std::holds_alternative<EnergyConserving>(model) || std::holds_alternative<EnergyConserving2005>(model);
+}
+
+// The smallest and the largest grain of each material: those present and, for an inflow
+// source, the bounds of its size distribution.
+std::vector<GrainTimes> grain_sizes(const Scenario& sc, const World& w) {
+  std::vector<GrainTimes> g;
+  auto add = [&](int material, double d) {
+    for (GrainTimes& x : g)
+      if (x.material == material && x.diameter == d) return;
+    GrainTimes x;
+    x.material = material;
+    x.diameter = d;
+    g.push_back(x);
+  };
+  for (std::size_t m = 0; m < w.materials.size(); ++m) {
+    double lo = INFINITY, hi = 0;
+    for (std::size_t i = 0; i < w.particles.size(); ++i)
+      if (w.particles.material[i] == static_cast<int>(m)) lo = std::min(lo, 2 * w.particles.radius[i]), hi = std::max(hi, 2 * w.particles.radius[i]);
+    if (hi > 0) add(static_cast<int>(m), lo), add(static_cast<int>(m), hi);
+  }
+  if (const ParticleSource* src = inflow_source(sc)) {
+    const SizeDistribution& s = src->sizes;
+    const double smallest = s.kind == SizeDistribution::Kind::single      ? s.diameter
+                            : s.kind == SizeDistribution::Kind::lognormal ? (s.d_min > 0 ? s.d_min : s.median * std::exp(-6 * s.sigma))
+                                                                          : s.d_min;
+    add(src->material, smallest);
+    add(src->material, s.largest());
+  }
+  std::sort(g.begin(), g.end(), [](const GrainTimes& a, const GrainTimes& b) {
+    return a.material != b.material ? a.material < b.material : a.diameter < b.diameter;
+  });
+  return g;
+}
+
+// The representative approach speed of a collision: the largest of the free-fall speed over
+// the domain's height, the terminal speed of the largest grain in a fluid, twice the largest
+// initial speed (two grains head on), the inflow's entry speed and the fastest wall.
+void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
+  auto consider = [&](double u, const std::string& why) {
+    if (u > ts.impact_speed) ts.impact_speed = u, ts.impact_reason = why;
+  };
+  const double g = norm(sc.gravity);
+  if (g > 0) {
+    double height = 0;  // the box's extent along gravity
+    for (int k = 0; k < 3; ++k) height += std::abs(sc.gravity[k]) / g * sc.domain.length(k);
+    consider(std::sqrt(2 * g * height), "free fall over the domain height, " + fmt(height) + " m");
+  }
+  for (const GrainTimes& x : ts.grains)
+    consider(x.terminal_speed, "terminal settling speed of the " + fmt(x.diameter) + " m " + sc.materials[x.material].name + " grain");
+  double fastest = 0;
+  for (const Vec3& v : w.particles.velocity) fastest = std::max(fastest, norm(v));
+  consider(2 * fastest, "twice the largest initial particle speed");
+  if (const ParticleSource* src = inflow_source(sc)) consider(src->fall_speed, "the inflow's entry speed");
+  for (const Wall& wall : sc.walls)
+    for (const WallMotion& m : wall.motion) consider(norm(m.velocity) + fastest, "a moving wall");
+  consider(sc.block_steps.u_floor, "no motion foreseen: the floor " + fmt(sc.block_steps.u_floor) + " m/s");
+}
+
+// The shortest collision over every pair of the grains and every wall (a material with a
+// single grain and no inflow has no pairs of its own).
+void shortest_contact(const Scenario& sc, const World& w, TimeScales& ts) {
+  ts.shortest_contact = INFINITY;
+  std::vector<bool> several(w.materials.size(), false);
+  std::vector<std::size_t> count(w.materials.size(), 0);
+  for (int m : w.particles.material) several[static_cast<std::size_t>(m)] = ++count[static_cast<std::size_t>(m)] > 1;
+  if (const ParticleSource* src = inflow_source(sc)) several[static_cast<std::size_t>(src->material)] = true;
+  auto consider = [&](const PairLaw& law, double m_eff, double r_eff, const std::string& what) {
+    const double t = contact_time(law.normal, m_eff, r_eff, ts.impact_speed);
+    if (t < ts.shortest_contact) {
+      ts.shortest_contact = t;
+      ts.shortest_contact_what = what + ", " + model_name(law.normal);
+      ts.contact_resolution_matters = !exact_whatever_dt(law.normal);
+    }
+  };
+  auto name = [&](const GrainTimes& x) { return fmt(x.diameter) + " m " + sc.materials[x.material].name; };
+  for (std::size_t a = 0; a < ts.grains.size(); ++a) {
+    const GrainTimes& ga = ts.grains[a];
+    const double ma = sphere_mass(sc.materials[ga.material].density, ga.diameter), ra = ga.diameter / 2;
+    for (std::size_t b = a; b < ts.grains.size(); ++b) {
+      const GrainTimes& gb = ts.grains[b];
+      if (ga.material == gb.material && !several[static_cast<std::size_t>(ga.material)]) continue;  // one grain alone
+      const double mb = sphere_mass(sc.materials[gb.material].density, gb.diameter), rb = gb.diameter / 2;
+      consider(w.laws.at(ga.material, gb.material), ma * mb / (ma + mb), ra * rb / (ra + rb), name(ga) + " on " + name(gb));
+    }
+    for (const Wall& wall : w.walls)
+      consider(w.laws.at(ga.material, wall.material), ma, ra, name(ga) + " on a " + sc.materials[wall.material].name + " wall");
+  }
+}
+
+// What the rules ask of dt, whether the scenario's dt meets it, and the warnings.
+void judge_dt(const Scenario& sc, TimeScales& ts) {
+  const double dt = sc.dt;
+  const bool contacts = std::isfinite(ts.shortest_contact) && ts.contact_resolution_matters;
+  const bool fluid = std::isfinite(ts.shortest_relaxation);
+  if (sc.integrator == Integrator::block_hermite) {
+    // dt is the longest step; a contact's step is kappa_c t_c, a grain's in the fluid
+    // eta_tau tau; each must be reachable by halving dt at most `levels` times.
+    const BlockStepRules& r = sc.block_steps;
+    auto level_for = [&](double bound) { return bound >= dt ? 0 : static_cast<int>(std::ceil(std::log2(dt / bound))); };
+    double finest = INFINITY;
+    std::string what;
+    if (contacts) finest = r.kappa_c * ts.shortest_contact, what = "kappa_c t_c = " + fmt(r.kappa_c) + " x " + fmt(ts.shortest_contact) + " s";
+    if (fluid && r.eta_tau * ts.shortest_relaxation < finest)
+      finest = r.eta_tau * ts.shortest_relaxation, what = "eta_tau tau = " + fmt(r.eta_tau) + " x " + fmt(ts.shortest_relaxation) + " s";
+    ts.needed_level = std::isfinite(finest) ? level_for(finest) : 0;
+    ts.suggested_dt = std::isfinite(finest) ? std::ldexp(finest, r.levels) : dt;
+    ts.safe = ts.needed_level <= r.levels;
+    ts.suggestion = std::isfinite(finest) ? "the finest step needed is " + what + " = " + fmt(finest) + " s: level " +
+                                                std::to_string(ts.needed_level) + " of " + std::to_string(r.levels) +
+                                                " (dt/2^" + std::to_string(ts.needed_level) + " = " +
+                                                fmt(std::ldexp(dt, -ts.needed_level)) + " s); dt may be up to 2^" +
+                                                std::to_string(r.levels) + " times that"
+                                          : "no contact or fluid bounds the steps";
+    if (!ts.safe)
+      ts.warnings.push_back("dt = " + fmt(dt) + " s cannot resolve the stiffest contact or the drag: " + what + " = " +
+                            fmt(finest) + " s needs level " + std::to_string(ts.needed_level) + ", beyond levels = " +
+                            std::to_string(r.levels) + " (finest step dt/2^" + std::to_string(r.levels) + " = " +
+                            fmt(std::ldexp(dt, -r.levels)) + " s); lower dt to " + fmt(ts.suggested_dt) +
+                            " s or raise simulation.block_steps.levels");
+    return;
+  }
+  ts.suggested_dt = INFINITY;
+  if (contacts) {
+    ts.suggested_dt = ts.shortest_contact / kStepsPerContact;
+    ts.suggestion = "1/" + fmt(kStepsPerContact) + " of the shortest contact";
+  }
+  if (fluid && kRelaxationShare * ts.shortest_relaxation < ts.suggested_dt) {
+    ts.suggested_dt = kRelaxationShare * ts.shortest_relaxation;
+    ts.suggestion = fmt(kRelaxationShare) + " of the shortest drag relaxation time";
+  }
+  if (!std::isfinite(ts.suggested_dt)) ts.suggested_dt = dt, ts.suggestion = "no contact or fluid bounds dt";
+  ts.safe = dt <= ts.suggested_dt * (1 + 1e-12);
+  if (contacts && dt * kFewestContactSteps > ts.shortest_contact)
+    ts.warnings.push_back("dt = " + fmt(dt) + " s cannot resolve the stiffest contact: it lasts " +
+                          fmt(ts.shortest_contact) + " s (" + ts.shortest_contact_what + ", at " + fmt(ts.impact_speed) +
+                          " m/s), only " + fmt(ts.shortest_contact / dt) + " steps; at least " + fmt(kFewestContactSteps) +
+                          " are needed, " + fmt(kStepsPerContact) + " suggested: dt <= " + fmt(ts.suggested_dt) + " s");
+  if (fluid && dt > kLargestRelaxationShare * ts.shortest_relaxation)
+    ts.warnings.push_back("dt = " + fmt(dt) + " s cannot resolve the drag: its relaxation time is " +
+                          fmt(ts.shortest_relaxation) + " s; keep dt <= " + fmt(kLargestRelaxationShare) +
+                          " of it, " + fmt(kRelaxationShare) + " suggested: dt <= " + fmt(ts.suggested_dt) + " s");
+}
+
+}  // namespace
+
+double rayleigh_time(const Material& m, double d) {
+  const double shear = m.youngs_modulus / (2 * (1 + m.poisson));
+  return M_PI * (d / 2) * std::sqrt(m.density / shear) / (0.1631 * m.poisson + 0.8766);
+}
+
+double terminal_speed(const Fluid& fluid, double rho, double d, double g) {
+  const double area = M_PI * d * d / 4;
+  const double weight = (rho - fluid.density) * M_PI * d * d * d / 6 * g;  // net of buoyancy
+  if (weight <= 0) return 0;
+  auto drag = [&](double u) { return 0.5 * drag_coefficient(u * d / fluid.viscosity) * fluid.density * area * u * u; };
+  double lo = 0, hi = 1;
+  while (drag(hi) < weight) hi *= 2;
+  for (int k = 0; k < 200 && hi - lo > 1e-14 * hi; ++k) (drag(0.5 * (lo + hi)) < weight ? lo : hi) = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+TimeScales time_scales(const Scenario& sc, const World& w) {
+  TimeScales ts;
+  ts.grains = grain_sizes(sc, w);
+  const bool drag = sc.fluid.enabled && sc.fluid.drag;
+  ts.shortest_relaxation = INFINITY;
+  for (GrainTimes& x : ts.grains) {
+    const Material& m = sc.materials[x.material];
+    x.rayleigh_time = rayleigh_time(m, x.diameter);
+    x.relaxation_time = INFINITY;
+    if (!drag) continue;
+    x.terminal_speed = terminal_speed(sc.fluid, m.density, x.diameter, norm(sc.gravity));
+    x.relaxation_time = drag_relaxation_time(sc.fluid, x.diameter, sphere_mass(m.density, x.diameter) + sc.fluid.added_mass_of(x.diameter),
+                                             x.terminal_speed);
+    ts.shortest_relaxation = std::min(ts.shortest_relaxation, x.relaxation_time);
+  }
+  impact_speed(sc, w, ts);
+  // Each grain's collision with an equal one, at the impact speed.
+  for (GrainTimes& x : ts.grains) {
+    const double m = sphere_mass(sc.materials[x.material].density, x.diameter);
+    x.contact_time = contact_time(w.laws.at(x.material, x.material).normal, m / 2, x.diameter / 4, ts.impact_speed);
+  }
+  shortest_contact(sc, w, ts);
+  ts.steps = std::llround(sc.duration / sc.dt);
+  judge_dt(sc, ts);
+  return ts;
+}
+
+WallTimeEstimate estimate_wall_time(const Scenario& sc, World world, std::int64_t max_steps, double budget_s) {
+  using clock = std::chrono::steady_clock;
+  WallTimeEstimate e;
+  Simulation sim(std::move(world), sc.integrator, sc.block_steps);
+  try {
+    sim.start();
+    const auto t0 = clock::now();
+    const std::int64_t last = std::min<std::int64_t>(max_steps, std::llround(sc.duration / sc.dt));
+    while (e.sampled_steps < last && e.sample_seconds < budget_s) {
+      sim.step();
+      ++e.sampled_steps;
+      e.sample_seconds = std::chrono::duration<double>(clock::now() - t0).count();
+    }
+  } catch (const NumericalError& err) {
+    e.failure = err.what();
+  }
+  if (e.sampled_steps > 0)
+    e.run_seconds = e.sample_seconds / static_cast<double>(e.sampled_steps) * static_cast<double>(std::llround(sc.duration / sc.dt));
+  return e;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,69 @@
+// The command line (docs/cli.md): OMP_NUM_THREADS sets the threads when --threads is not
+// given, a bad value is refused (exit 2), and a --set string written without quotes gets a
+// hint that shows the quoting.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "tsubu_process.hpp"
+
+namespace fs = std::filesystem;
+using namespace tsubu::testing;
+
+namespace {
+
+const std::string kValidSmall = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "valid_small.toml").string();
+
+// The threads run.json records for a short run of valid_small with OMP_NUM_THREADS = `omp`
+// and the extra arguments.
+std::string recorded_threads(const TempDir& dir, const char* omp, std::vector<std::string> args = {}) {
+  const fs::path out = dir.path() / (std::string("out") + omp), log = dir.path() / "log";
+  std::vector<std::string> all{"run", kValidSmall, "--out", out.string(), "--set", "simulation.duration=1e-4"};
+  all.insert(all.end(), args.begin(), args.end());
+  EXPECT_EQ(run(all, log, [omp] { setenv("OMP_NUM_THREADS", omp, 1); }), 0) << slurp(log);
+  const std::string json = slurp(out / "run.json");
+  const auto at = json.find("\"threads\": ");
+  return at == std::string::npos ? "" : json.substr(at + 11, json.find_first_of(",\n", at) - at - 11);
+}
+
+}  // namespace
+
+TEST(CommandLine, OmpNumThreadsSetsTheThreadsWithoutTheOption) {
+  TempDir dir;
+  EXPECT_EQ(recorded_threads(dir, "2"), "2");
+  EXPECT_EQ(recorded_threads(dir, "1"), "1");
+  EXPECT_EQ(recorded_threads(dir, "3", {"--threads", "1"}), "1");  // the option wins
+}
+
+TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
+  TempDir dir;
+  for (const char* value : {"abc", "0", "-2", "4,2", "", "2000"}) {
+    const fs::path log = dir.path() / "log";
+    EXPECT_EQ(run({"run", kValidSmall, "--out", (dir.path() / "out").string()}, log,
+                  [value] { setenv("OMP_NUM_THREADS", value, 1); }),
+              2)
+        << value << ": " << slurp(log);
+    EXPECT_NE(slurp(log).find(std::string("error: OMP_NUM_THREADS=") + value + ": must be a whole number of threads from 1 to 1024"),
+              std::string::npos)
+        << slurp(log);
+    EXPECT_FALSE(fs::exists(dir.path() / "out")) << value;
+  }
+}
+
+TEST(CommandLine, AnUnquotedSetStringGetsAQuotingHint) {
+  TempDir dir;
+  const fs::path log = dir.path() / "log";
+  EXPECT_EQ(run({"check", kValidSmall, "--set", "simulation.integrator=block_hermite"}, log), 2) << slurp(log);
+  EXPECT_NE(slurp(log).find("--set simulation.integrator=block_hermite:1: simulation.integrator: the value is not valid "
+                            "TOML: "),
+            std::string::npos)
+      << slurp(log);
+  EXPECT_NE(slurp(log).find("; a string value needs quotes: --set 'simulation.integrator=\"block_hermite\"'"),
+            std::string::npos)
+      << slurp(log);
+  // A mistyped number is not a string: no hint.
+  EXPECT_EQ(run({"check", kValidSmall, "--set", "simulation.dt=1e-3x"}, log), 2) << slurp(log);
+  EXPECT_EQ(slurp(log).find("needs quotes"), std::string::npos) << slurp(log);
+}
