@@ -250,7 +250,7 @@ class Collection:
 
 
 def _as_frame(table, dataframes):
-    if not dataframes:
+    if not dataframes or table is None:
         return table
     import pandas
 
@@ -282,14 +282,12 @@ class Run:
 
         def table(name):
             path = self.path / name
-            return _as_frame(read_table(path), dataframes) if path.is_file() else None
+            return read_table(path) if path.is_file() else None
 
-        self.series = table("series.csv")
-        self.track = table("track.csv")
-        self.tracks = {}
-        if self.track is not None:
-            ids = np.asarray(self.track["id"])
-            self.tracks = {int(i): self.track[ids == i] for i in np.unique(ids)}
+        series, track = table("series.csv"), table("track.csv")
+        tracks = {} if track is None else {int(i): track[track["id"] == i] for i in np.unique(track["id"])}
+        self.series, self.track = _as_frame(series, dataframes), _as_frame(track, dataframes)
+        self.tracks = {i: _as_frame(rows, dataframes) for i, rows in tracks.items()}
         self.collections = {}
         for pvd in sorted(p for p in self.path.rglob("*.pvd") if "checkpoint" not in p.relative_to(self.path).parts):
             collection = Collection(pvd, use_vtk, dataframes)
