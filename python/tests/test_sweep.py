@@ -162,6 +162,15 @@ def test_failed_case_is_reported_not_retried(grid_run, tmp_path):
     assert "--overwrite" in (out / "logs" / f"{CASES[0]}.log").read_text()
     same_outputs(out / CASES[0], reference / CASES[0])
 
+    # An interrupted case whose resume fails (a frame deleted): failed, with tsubu's message.
+    (out / CASES[0] / "run.json").write_text(json.dumps({**summary, "status": "interrupted"}))
+    (out / CASES[0] / "vtk" / "frame_00003.vtu").unlink()
+    done = sweep(file)
+    assert done.returncode == 1
+    row = results(out)[CASES[0]]
+    assert row["status"] == "failed" and "tsubu exited with code 1" in row["message"]
+    assert "frame_00003.vtu" in row["message"]
+
     bad = write_sweep(tmp_path / "bad.toml", tmp_path / "bad", grid={"simulation.dt": [-1.0]})
     done = sweep(bad)
     assert done.returncode == 1
@@ -210,8 +219,9 @@ def test_bad_sweep_file_exits_2(tmp_path):
     done = sweep(file)
     assert done.returncode == 2 and not (tmp_path / "out").exists()
     assert done.stderr == f"error: {file}: grid.simulation.seed: a grid parameter takes a non-empty array of values\n"
+    file.write_text(f'scenario = "{SCENARIO}"\n[grid]\n"simulation.seed" = [3]\n')
     done = sweep(file, "--jobs", "0")
-    assert done.returncode == 2
+    assert done.returncode == 2 and done.stderr == "error: --jobs: must be an integer of at least 1, got 0\n"
 
 
 @pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 9), ("fig7", 48), ("fig8", 2)])

@@ -159,7 +159,8 @@ def _read_with_python(path):
         return {a.get("Name"): _parse_data_array(path, a, endian, header_type) for a in parent.findall("DataArray")}
 
     points = next(iter(arrays(pieces[0].find("Points")).values()), np.zeros((0, 3)))
-    return points, arrays(pieces[0].find("PointData")), arrays(pieces[0].find("CellData")), arrays(data_set.find("FieldData"))
+    piece = pieces[0]
+    return points, arrays(piece.find("PointData")), arrays(piece.find("CellData")), arrays(data_set.find("FieldData"))
 
 
 def _vtk_reader(path):

@@ -44,7 +44,7 @@ class Case:
 
     def __init__(self, params, folder):
         self.params, self.folder = params, Path(folder)
-        self.status = "pending"  # pending, ok, failed, interrupted
+        self.status = "pending"  # pending, running, ok, failed, interrupted
         self.summary = None      # run.json, once there is one
         self.message = ""
 
@@ -68,7 +68,8 @@ class Case:
 
     def set_arguments(self, overrides):
         """The case's `--set key=value` arguments: the sweep's fixed overrides, then its own."""
-        return [a for key, value in {**overrides, **self.params}.items() for a in ("--set", f"{key}={toml_value(value)}")]
+        values = {**overrides, **self.params}
+        return [a for key, value in values.items() for a in ("--set", f"{key}={toml_value(value)}")]
 
     def next_command(self, tsubu, scenario, overrides, threads, retry_failed):
         """The command that brings the case forward, or None when there is nothing to do:
@@ -94,7 +95,9 @@ def toml_value(value):
     if isinstance(value, int):
         return str(value)
     if isinstance(value, float):
-        return repr(value) if math.isfinite(value) else ("nan" if math.isnan(value) else ("inf" if value > 0 else "-inf"))
+        if math.isnan(value):
+            return "nan"
+        return repr(value) if math.isfinite(value) else ("inf" if value > 0 else "-inf")
     if isinstance(value, str):
         return json.dumps(value)  # a JSON string of printable text is a TOML basic string
     if isinstance(value, list):
@@ -307,9 +310,10 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     for a bad sweep; KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have
     stopped with a checkpoint."""
     sweep = load_sweep(sweep)
-    jobs = sweep.jobs if jobs is None else jobs
-    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-        raise SweepError(f"{sweep.file}: jobs: must be an integer of at least 1, got {jobs!r}")
+    if jobs is None:
+        jobs = sweep.jobs
+    elif isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise SweepError(f"--jobs: must be an integer of at least 1, got {jobs!r}")
     tsubu = find_tsubu(tsubu)
     commands = [(c, c.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed))
                 for c in sweep.cases]
@@ -337,7 +341,9 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
         case, log_path, log = running.pop(proc)
         log.close()
         case.refresh()
-        if case.summary is None or (proc.returncode != 0 and case.status == "ok"):
+        # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
+        # without a valid checkpoint) leave none, or the one of the session before.
+        if case.summary is None or (proc.returncode not in (0, INTERRUPTED) and case.status != "failed"):
             case.status = "failed"
             case.message = f"tsubu exited with code {proc.returncode}: {_last_line(log_path)}"
         if case.status != "ok" and progress:
@@ -347,9 +353,10 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
         report.report(*counts())
 
     stop = []  # set by SIGINT or SIGTERM: the loop then stops the runs and returns
-    handlers = None
+    handlers = {}
     if threading.current_thread() is threading.main_thread():
-        handlers = {s: signal.signal(s, lambda signum, frame: stop.append(signum)) for s in (signal.SIGINT, signal.SIGTERM)}
+        handlers = {sig: signal.signal(sig, lambda signum, frame: stop.append(signum))
+                    for sig in (signal.SIGINT, signal.SIGTERM)}
     queue = list(reversed(work))
     started = False
     try:
@@ -378,13 +385,15 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
                       flush=True)
             for proc in running:
                 proc.send_signal(signal.SIGINT)
+            for sig, handler in handlers.items():  # a second Ctrl-C stops the sweep at once
+                signal.signal(sig, handler)
             for proc in list(running):
                 proc.wait()
                 finish(proc)
             raise KeyboardInterrupt
     finally:
-        for s, handler in (handlers or {}).items():
-            signal.signal(s, handler)
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
     return sweep.cases
 
 
