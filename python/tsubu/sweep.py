@@ -1,0 +1,445 @@
+"""Runs the variants of a scenario, a grid and/or a list of cases, a few at a time.
+
+    /usr/bin/python3 -m tsubu.sweep SWEEP.toml [--jobs N] [--dry-run] [--retry-failed] [--tsubu PATH]
+
+A sweep file names a base scenario, the `--set` overrides each case applies (a full grid of
+values and/or an explicit list of cases), the output root and the number of runs at a time.
+Every case runs `tsubu run` in a folder of its own named after its parameters. Re-running
+the sweep skips the finished cases, resumes an interrupted or killed one from its checkpoint
+(`tsubu resume`) and leaves a failed one alone (reported; --retry-failed runs it again).
+After each case and at the end, the parameters, status, wall time and results of every case
+are written to OUTPUT/results.csv. Ctrl-C (or SIGTERM) asks the runs to stop with a
+checkpoint; re-running continues them. The format and the command: docs/sweeps.md.
+
+Exit codes: 0 every case finished, 1 a case failed, 2 a bad sweep file or command line,
+4 interrupted.
+"""
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+import tomllib
+from pathlib import Path
+
+__all__ = ["SweepError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
+
+INTERRUPTED = 4
+
+
+class SweepError(ValueError):
+    """A bad sweep file: `file: key: what is wrong`."""
+
+
+class Case:
+    """One variant: its parameters (dotted scenario key -> TOML value) and its folder."""
+
+    def __init__(self, params, folder):
+        self.params, self.folder = params, Path(folder)
+        self.status = "pending"  # pending, running, ok, failed, interrupted
+        self.summary = None      # run.json, once there is one
+        self.message = ""
+
+    @property
+    def name(self):
+        return self.folder.name
+
+    def refresh(self):
+        """Reads the case's run.json (if any) into status, summary and message."""
+        path = self.folder / "run.json"
+        try:
+            self.summary = json.loads(path.read_text())
+        except FileNotFoundError:
+            self.status, self.summary = "pending", None
+            return
+        except (OSError, ValueError) as e:
+            self.status, self.message = "failed", f"{path}: unreadable: {e}"
+            return
+        self.status = self.summary.get("status", "failed")
+        self.message = self.summary.get("message", "")
+
+    def set_arguments(self, overrides):
+        """The case's `--set key=value` arguments: the sweep's fixed overrides, then its own."""
+        values = {**overrides, **self.params}
+        return [a for key, value in values.items() for a in ("--set", f"{key}={toml_value(value)}")]
+
+    def next_command(self, tsubu, scenario, overrides, threads, retry_failed):
+        """The command that brings the case forward, or None when there is nothing to do:
+        a finished case, or a failed one without retry_failed."""
+        self.refresh()
+        run = [str(tsubu), "run", str(scenario), "--out", str(self.folder), "--threads", str(threads),
+               *self.set_arguments(overrides)]
+        if self.status == "ok" or (self.status == "failed" and not retry_failed):
+            return None
+        if self.status == "failed":
+            return run + ["--overwrite"]
+        if not (self.folder / ".tsubu-run").is_file():
+            return run  # a new case (tsubu refuses a folder holding anything else)
+        if any((self.folder / "checkpoint").glob("step_*.tsbk")):
+            return [str(tsubu), "resume", str(self.folder), "--threads", str(threads)]
+        return run + ["--overwrite"]  # killed before its first checkpoint: start again
+
+
+def toml_value(value):
+    """The TOML text of a value, as `tsubu --set key=VALUE` takes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        return repr(value) if math.isfinite(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, str):
+        return json.dumps(value)  # a JSON string of printable text is a TOML basic string
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"{value!r} ({type(value).__name__}) is not a value --set takes")
+
+
+def _flatten(table, prefix=""):
+    """{"particles": {"0": {"x": 1}}} and {"particles.0.x": 1} both give {"particles.0.x": 1}."""
+    flat = {}
+    for key, value in table.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict):
+            flat.update(_flatten(value, path + "."))
+        else:
+            flat[path] = value
+    return flat
+
+
+def _folder_name(params, labels):
+    """The folder of a case: label=value for each parameter, joined by commas."""
+    def text(value):
+        return re.sub(r"[^A-Za-z0-9._+-]", "_", toml_value(value).strip('"'))
+    return ",".join(f"{labels[key]}={text(value)}" for key, value in params.items())
+
+
+def _labels(keys):
+    """Each dotted key's shortest trailing part that no other key ends with."""
+    labels = {}
+    for key in keys:
+        parts = key.split(".")
+        for n in range(1, len(parts) + 1):
+            label = ".".join(parts[-n:])
+            if not any(k != key and (k == label or k.endswith("." + label)) for k in keys):
+                break
+        labels[key] = label
+    return labels
+
+
+class Sweep:
+    """A sweep file, checked: scenario, output root, jobs, threads, fixed overrides, cases."""
+
+    KEYS = ("scenario", "output", "jobs", "threads", "set", "grid", "cases")
+
+    def __init__(self, spec, file="<dict>", base=Path(".")):
+        self.file = file
+
+        def fail(key, what):
+            raise SweepError(f"{file}: {key}: {what}")
+
+        if not isinstance(spec, dict):
+            fail("(top)", "a sweep is a table of keys")
+        for key in spec:
+            if key not in self.KEYS:
+                fail(key, f"unknown key (allowed: {', '.join(self.KEYS)})")
+        if not isinstance(spec.get("scenario"), str) or not spec["scenario"]:
+            fail("scenario", "required: the path of the base scenario, relative to the sweep file")
+        self.scenario = (base / spec["scenario"]).resolve()
+        if not self.scenario.is_file():
+            fail("scenario", f"no such file: {self.scenario}")
+        output = spec.get("output", f"out/{Path(file).stem if file != '<dict>' else 'sweep'}")
+        if not isinstance(output, str) or not output:
+            fail("output", "must be a non-empty string: the folder that holds the cases' folders")
+        self.output = Path(output)
+        self.jobs = self._count(spec, "jobs", _cores(), fail)
+        self.threads = self._count(spec, "threads", 1, fail)
+
+        def table(key):
+            value = spec.get(key, {})
+            if not isinstance(value, dict):
+                fail(key, "must be a table of scenario keys (e.g. \"simulation.dt\" = 1e-6)")
+            return _flatten(value, key + ".")
+
+        self.overrides = {k[len("set."):]: v for k, v in table("set").items()}
+        grid = table("grid")
+        for key, values in grid.items():
+            if not isinstance(values, list) or not values:
+                fail(key, "a grid parameter takes a non-empty array of values")
+        cases = spec.get("cases", [])
+        if not isinstance(cases, list) or not all(isinstance(c, dict) for c in cases):
+            fail("cases", "must be an array of tables ([[cases]]), each a set of scenario keys and values")
+        if not grid and not cases:
+            fail("grid", "a sweep needs a [grid] and/or [[cases]]")
+        listed = [_flatten(c) for c in cases] or [{}]
+        for n, case in enumerate(listed):
+            if cases and not case:
+                fail(f"cases.{n}", "an empty case: give it at least one key")
+            for key in case:
+                if f"grid.{key}" in grid:
+                    fail(f"cases.{n}.{key}", "also a grid parameter: give it in one of them")
+        # Every explicit case at every point of the grid.
+        points = [dict(zip((k[len("grid."):] for k in grid), values)) for values in itertools.product(*grid.values())]
+        params = [{**point, **case} for case in listed for point in points]
+        for p in params:
+            for key, value in p.items():
+                try:
+                    toml_value(value)
+                except TypeError as e:
+                    fail(key, str(e))
+        keys = list(dict.fromkeys(k for p in params for k in p))
+        self.parameters = keys
+        labels = _labels(keys)
+        self.cases, seen = [], {}
+        for p in params:
+            name = _folder_name(p, labels)
+            if name in seen:
+                fail("cases", f"two cases give the folder {name!r}: {seen[name]} and {p}")
+            seen[name] = p
+            self.cases.append(Case(p, self.output / name))
+
+    @staticmethod
+    def _count(spec, key, default, fail):
+        value = spec.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            fail(key, f"must be an integer of at least 1, got {value!r}")
+        return value
+
+
+def _cores():
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def load_sweep(sweep):
+    """A Sweep from a file path or a dict (paths in a dict are relative to the working folder)."""
+    if isinstance(sweep, dict):
+        return Sweep(sweep)
+    path = Path(sweep)
+    try:
+        with open(path, "rb") as f:
+            spec = tomllib.load(f)
+    except OSError as e:
+        raise SweepError(f"{path}: cannot read: {e.strerror}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise SweepError(f"{path}: not valid TOML: {e}") from None
+    return Sweep(spec, str(path), path.parent)
+
+
+def find_tsubu(tsubu=None):
+    """The tsubu executable: the argument, else $TSUBU_BIN, else `tsubu` on the PATH, else the
+    repository's build/tsubu."""
+    candidates = [tsubu, os.environ.get("TSUBU_BIN"), shutil.which("tsubu"),
+                  Path(__file__).resolve().parents[2] / "build" / "tsubu"]
+    for c in candidates:
+        if c and Path(c).is_file() and os.access(c, os.X_OK):
+            return Path(c).resolve()
+    raise SweepError(f"tsubu: no executable found (tried {', '.join(str(c) for c in candidates if c)}); "
+                     "give --tsubu PATH or set TSUBU_BIN")
+
+
+def _duration(seconds):
+    seconds = int(round(seconds))
+    h, rest = divmod(seconds, 3600)
+    return f"{h}h{rest // 60:02d}m" if h else (f"{rest // 60}m{rest % 60:02d}s" if rest >= 60 else f"{rest}s")
+
+
+class _Progress:
+    """Progress lines on a stream: at every change, and every `interval` seconds otherwise."""
+
+    def __init__(self, stream, total, interval=30.0):
+        self.stream, self.total, self.interval = stream, total, interval
+        self.start = self.last = time.monotonic()
+        self.finished_here = 0  # cases this session ran to an end, for the rate
+
+    def report(self, done, running, failed, force=True):
+        now = time.monotonic()
+        if not self.stream or (not force and now - self.last < self.interval):
+            return
+        self.last = now
+        elapsed = now - self.start
+        left = self.total - done - failed - running
+        eta = "ETA ?"
+        if self.finished_here:
+            eta = f"ETA {_duration(elapsed / self.finished_here * (left + running))}"
+        print(f"sweep: {done} done, {running} running, {left} left, {failed} failed; "
+              f"elapsed {_duration(elapsed)}, {eta}", file=self.stream, flush=True)
+
+
+def write_results(sweep, path):
+    """results.csv: one row per case, parameters, status, timing and run.json's results."""
+    result_keys = sorted({k for c in sweep.cases if c.summary for k in c.summary.get("results", {})})
+    header = ["case", "status", "stop_reason", "wall_time_s", "steps", "particles",
+              *sweep.parameters, *result_keys, "message"]
+    tmp = path.with_suffix(".csv.tmp")
+    with open(tmp, "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(header)
+        for c in sweep.cases:
+            s = c.summary or {}
+            results = s.get("results", {})
+            row = [c.name, c.status, s.get("stop_reason", ""), s.get("wall_time_s", ""), s.get("steps", ""),
+                   s.get("particles", ""), *(toml_value(c.params[k]).strip('"') if k in c.params else ""
+                                             for k in sweep.parameters),
+                   *(results.get(k, "") for k in result_keys), c.message]
+            out.writerow(row)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr):
+    """Runs the cases of `sweep` (a sweep file's path or a dict with its keys) that are not
+    finished; returns the list of Case (status "ok", "failed", "interrupted", or "pending"
+    for a case not run). A dry run prints each case's command and checks the scenario of
+    each case to be run with `tsubu check` (a case it refuses is "failed"). Raises SweepError
+    for a bad sweep; KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have
+    stopped with a checkpoint."""
+    sweep = load_sweep(sweep)
+    if jobs is None:
+        jobs = sweep.jobs
+    elif isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise SweepError(f"--jobs: must be an integer of at least 1, got {jobs!r}")
+    tsubu = find_tsubu(tsubu)
+    commands = [(c, c.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed))
+                for c in sweep.cases]
+    work = [(case, command) for case, command in commands if command]
+    if dry_run:
+        for case, command in commands:
+            print(f"{case.name}: {' '.join(map(_quote, command)) if command else f'skip ({case.status})'}")
+            if command and command[1] == "run":
+                _check(case, [str(tsubu), "check", str(sweep.scenario), *case.set_arguments(sweep.overrides)])
+        print(f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
+        return sweep.cases
+    sweep.output.mkdir(parents=True, exist_ok=True)
+    logs = sweep.output / "logs"
+    logs.mkdir(exist_ok=True)
+    results = sweep.output / "results.csv"
+    write_results(sweep, results)
+    report = _Progress(progress, len(sweep.cases))
+    running = {}  # Popen -> (case, log path, log file)
+
+    def counts():
+        return (sum(c.status == "ok" for c in sweep.cases), len(running),
+                sum(c.status == "failed" for c in sweep.cases))
+
+    def finish(proc):
+        case, log_path, log = running.pop(proc)
+        log.close()
+        case.refresh()
+        # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
+        # without a valid checkpoint) leave none, or the one of the session before.
+        if case.summary is None or (proc.returncode not in (0, INTERRUPTED) and case.status != "failed"):
+            case.status = "failed"
+            case.message = f"tsubu exited with code {proc.returncode}: {_last_line(log_path)}"
+        if case.status != "ok" and progress:
+            print(f"sweep: {case.name}: {case.status}: {case.message} (log: {log_path})", file=progress, flush=True)
+        report.finished_here += 1
+        write_results(sweep, results)
+        report.report(*counts())
+
+    stop = []  # set by SIGINT or SIGTERM: the loop then stops the runs and returns
+    handlers = {}
+    if threading.current_thread() is threading.main_thread():
+        handlers = {sig: signal.signal(sig, lambda signum, frame: stop.append(signum))
+                    for sig in (signal.SIGINT, signal.SIGTERM)}
+    queue = list(reversed(work))
+    started = False
+    try:
+        while (queue or running) and not stop:
+            while queue and len(running) < jobs and not stop:
+                case, command = queue.pop()
+                log_path = logs / f"{case.name}.log"
+                log = open(log_path, "a")
+                print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
+                # A session of its own: a Ctrl-C at the terminal reaches only the sweep, which
+                # then asks each run once to stop (a second signal would stop a run at once).
+                proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                        start_new_session=True)
+                case.status = "running"
+                running[proc] = (case, log_path, log)
+            if not started:
+                started = True
+                report.report(*counts())
+            time.sleep(0.1)
+            for proc in [p for p in running if p.poll() is not None]:
+                finish(proc)
+            report.report(*counts(), force=False)
+        if stop:
+            if progress:
+                print(f"sweep: interrupted: asking {len(running)} runs to stop with a checkpoint", file=progress,
+                      flush=True)
+            for proc in running:
+                proc.send_signal(signal.SIGINT)
+            for sig, handler in handlers.items():  # a second Ctrl-C stops the sweep at once
+                signal.signal(sig, handler)
+            for proc in list(running):
+                proc.wait()
+                finish(proc)
+            raise KeyboardInterrupt
+    finally:
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
+    return sweep.cases
+
+
+def _check(case, check):
+    """Runs `tsubu check` for a case; a refusal fails the case with tsubu's message."""
+    done = subprocess.run(check, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        lines = done.stderr.strip().splitlines()
+        case.status, case.message = "failed", lines[-1] if lines else f"tsubu check exited with code {done.returncode}"
+        print(f"  refused by tsubu check: {case.message}")
+
+
+def _last_line(path):
+    lines = [line for line in Path(path).read_text(errors="replace").splitlines() if line.strip()]
+    return lines[-1].strip() if lines else "(no output)"
+
+
+def _quote(arg):
+    return arg if re.fullmatch(r"[A-Za-z0-9_./=+:,-]+", arg) else "'" + arg.replace("'", "'\\''") + "'"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python3 -m tsubu.sweep", description=__doc__.split("\n\n")[0])
+    parser.add_argument("sweep", help="the sweep file (TOML, docs/sweeps.md)")
+    parser.add_argument("--jobs", type=int, help="runs at a time (default: the file's jobs, else the cores)")
+    parser.add_argument("--dry-run", action="store_true", help="print what each case would run, run nothing")
+    parser.add_argument("--retry-failed", action="store_true", help="run failed cases again from the start")
+    parser.add_argument("--tsubu", help="the tsubu executable (default: $TSUBU_BIN, tsubu on the PATH, build/tsubu)")
+    args = parser.parse_args(argv)
+    try:
+        cases = run_sweep(args.sweep, jobs=args.jobs, dry_run=args.dry_run, tsubu=args.tsubu,
+                          retry_failed=args.retry_failed)
+    except SweepError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("sweep: stopped; run the same command again to continue", file=sys.stderr)
+        return INTERRUPTED
+    failed = [c.name for c in cases if c.status != "ok"]
+    if args.dry_run:
+        failed = [c.name for c in cases if c.status == "failed"]
+        return 1 if failed else 0
+    print(f"sweep: {len(cases) - len(failed)} of {len(cases)} cases finished"
+          + (f"; not finished: {', '.join(failed)}" if failed else ""), file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
