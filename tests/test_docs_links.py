@@ -43,8 +43,10 @@ def slug(heading):
 
 
 def anchors(path):
+    """The headings' anchors and explicit HTML anchors (<a id="name"></a>)."""
     seen, found = {}, set()
     for _, line in prose_lines(path):
+        found.update(re.findall(r'<a\s+(?:id|name)="([^"]+)"', line))
         m = re.match(r"^(#{1,6})\s+(.*?)\s*#*\s*$", line)
         if not m:
             continue
