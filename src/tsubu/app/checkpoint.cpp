@@ -260,7 +260,8 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   if (bom != kByteOrderMark) throw CheckpointError("written on a machine of the other byte order");
   if (version != kCheckpointVersion)
     throw CheckpointError("format version " + std::to_string(version) + ", this tsubu reads version " +
-                          std::to_string(kCheckpointVersion));
+                          std::to_string(kCheckpointVersion) +
+                          (version < kCheckpointVersion ? " (an older tsubu wrote it: resume it with that tsubu, or run again)" : ""));
   if (size != bytes.size() - kHeaderSize)
     throw CheckpointError("truncated: the header announces " + std::to_string(size) + " payload bytes, the file has " +
                           std::to_string(bytes.size() - kHeaderSize));

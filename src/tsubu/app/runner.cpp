@@ -290,8 +290,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     // large run's state would double its peak memory), and given back whatever happens.
     auto lend = [&] {
       std::swap(c.particles, world.particles);
-      std::swap(c.pair_contacts, world.pair_contacts);
-      std::swap(c.wall_contacts, world.wall_contacts);
+      std::swap(c.pair_contacts, world.contacts.pairs());
+      std::swap(c.wall_contacts, world.contacts.walls());
     };
     lend();
     struct GiveBack {
@@ -507,11 +507,10 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
   World world = build_empty_world(sc);
   world.particles = std::move(c.particles);
-  world.pair_contacts = std::move(c.pair_contacts);
-  world.wall_contacts = std::move(c.wall_contacts);
+  world.contacts.assign(std::move(c.pair_contacts), std::move(c.wall_contacts), world.particles.size());
   world.step = c.step;
   world.time = c.time;
-  for (const Contact& k : world.wall_contacts)
+  for (const Contact& k : world.contacts.walls())
     if (k.j >= world.walls.size()) throw std::runtime_error(used.string() + ": a wall contact names a wall the scenario lacks");
   if (c.wall_points.size() != world.walls.size())
     throw std::runtime_error(used.string() + ": it stores " + std::to_string(c.wall_points.size()) +

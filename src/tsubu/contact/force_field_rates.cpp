@@ -58,7 +58,7 @@ template <class Normal, class Tangential>
 void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
                                      const Normal& normal, const Tangential& tangential) {
   const Particles& p = world.particles;
-  Contact& c = world.pair_contacts[k];
+  Contact& c = world.contacts.pairs()[k];
   const Kinematics a = kin.at(c.i), b = kin.at(c.j);
   const Vec3 d = world.domain.separation(a.x, b.x);
   const double ri = p.radius[c.i], rj = p.radius[c.j], reach = ri + rj;
@@ -79,7 +79,9 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
                                               DualVec3(a.v, a.a), DualVec3(b.v, b.a), DualVec3(a.w, a.alpha),
                                               DualVec3(b.w, b.alpha));
   g.dt = static_cast<double>(kin.now - std::max(kin.s.time[c.i], kin.s.time[c.j])) * kin.tick;
-  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
+  ContactHistory h = c.law_history(p);
+  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, h);
+  c.set_law_history(p, h);
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
@@ -90,7 +92,7 @@ template <class Normal, class Tangential>
 void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
                                      const Normal& normal, const Tangential& tangential) {
   const Particles& p = world.particles;
-  Contact& c = world.wall_contacts[k];
+  Contact& c = world.contacts.walls()[k];
   const Wall& wall = world.walls[c.j];
   const Kinematics a = kin.at(c.i);
   const double r = p.radius[c.i];
@@ -120,8 +122,9 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
   Particles& p = world.particles;
-  const auto& pairs = world.pair_contacts;
-  const auto& walls = world.wall_contacts;
+  const ContactList& contacts = world.contacts;
+  const auto& pairs = contacts.pairs();
+  const auto& walls = contacts.walls();
   pair_results_.resize(pairs.size(), false);
   wall_results_.resize(walls.size(), false);
   pair_rates_.resize(pairs.size());
@@ -130,7 +133,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   // particles are disjoint, so the active list can be split between threads.
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
-    for_each_contact_of(i, [&](std::uint32_t k, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
       if (side == 0) {
         const Contact& c = walls[k];
         visit_law(world.laws.at(p.material[c.i], world.walls[c.j].material),
@@ -155,7 +158,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     int count = 0, own = 0;
     std::uint64_t evaluated = 0;
     double deepest = 0, bound = kNever;
-    for_each_contact_of(i, [&](std::uint32_t c, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t c, int side) {
       const Results& res = side == 0 ? wall_results_ : pair_results_;
       const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
       const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
