@@ -29,8 +29,10 @@ namespace tsubu {
 //   xi         -> -xi       (a vector in the contact plane, seen from the other side)
 //   normal[0]  -> normal[0] (model HH's largest overlap: a property of the pair)
 //   normal[1]  -> normal[1] (unused; a new normal slot must be symmetric or listed here)
-// Negation is exact, so the laws get the same bits as if the spring were stored from i.
-// Equal ids (never in a run, where ids are unique) keep the index order.
+// Negation is exact, so the laws get the same bits as if the spring were stored from i (but
+// for the sign of the zeros of an empty spring, which no particle's force sees: its sums
+// start from +0, and +0 plus or minus a zero is +0). Equal ids (never in a run, where ids
+// are unique) keep the index order.
 struct Contact {
   std::uint32_t i, j;
   bool touching = false;
