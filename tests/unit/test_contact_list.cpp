@@ -3,6 +3,7 @@
 // and the run continues as the unsorted one does.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <utility>
@@ -10,6 +11,7 @@
 #include "tsubu/sim/simulation.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 #include "scenario_run.hpp"
+#include "world_builder.hpp"
 
 namespace tsubu {
 namespace {
@@ -111,6 +113,41 @@ TEST(ContactList, ARunSortedMidwayContinuesTheUnsortedRun) {
   const double wrong = largest_shift(plain_end, continued(std::move(flipped), 300));
   EXPECT_GT(wrong, 1e-3 * 0.002) << "springs reversed by the sort should show";
   ::testing::Test::RecordProperty("largest_difference_with_reversed_springs_m", ::testing::PrintToString(wrong));
+}
+
+// Two grains pressed together, the second sliding and rolling over the first (friction
+// 0.5), with ids in or against the index order.
+World sliding_pair(std::int64_t first_id, std::int64_t second_id, double dt) {
+  World w = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), dt);
+  w.particles.add(first_id, 0, 0.01, 2500, {0, 0, 0}, {});
+  w.particles.add(second_id, 0, 0.01, 2500, {0.009999, 0, 0}, {-0.05, 0.05, 0.02});
+  w.particles.omega[1] = {3, -1, 2};
+  return w;
+}
+
+// Ids against the index order change where a history is stored, not what the laws compute:
+// the pair moves by the same bits either way, with fixed steps and with block steps (the
+// rates evaluation), and its stored spring is the other one's negated.
+TEST(ContactList, IdsAgainstTheIndexOrderGiveTheSameBits) {
+  for (const Integrator integrator : {Integrator::velocity_verlet, Integrator::block_hermite}) {
+    const double dt = integrator == Integrator::block_hermite ? 1e-4 : 1e-6;
+    const std::int64_t steps = integrator == Integrator::block_hermite ? 10 : 1000;
+    std::vector<World> end;
+    for (const auto& [a, b] : {std::pair{0, 1}, std::pair{1, 0}}) {
+      Simulation sim(sliding_pair(a, b, dt), integrator, {});
+      sim.start();
+      sim.advance_to(steps);
+      end.push_back(std::move(sim.world()));
+    }
+    const Contact& in_order = end[0].contacts.pairs().at(0);
+    const Contact& against = end[1].contacts.pairs().at(0);
+    ASSERT_TRUE(in_order.touching) << "the grains must still touch";
+    EXPECT_GT(norm(in_order.history.xi), 1e-7) << "the spring must be stretched";
+    EXPECT_TRUE(same_bits(against.history.xi, -in_order.history.xi));
+    EXPECT_TRUE(testing::same_bits(end[0].particles.position, end[1].particles.position));
+    EXPECT_TRUE(testing::same_bits(end[0].particles.velocity, end[1].particles.velocity));
+    EXPECT_TRUE(testing::same_bits(end[0].particles.omega, end[1].particles.omega));
+  }
 }
 
 }  // namespace
