@@ -185,9 +185,9 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
   Simulation sim = run(std::move(w), rules, 4);
   const HermiteState& s = sim.block()->state();
   EXPECT_GE(int(s.level[0]) - int(s.level[2]), 6) << "contact level " << int(s.level[0]) << ", free " << int(s.level[2]);
-  for (const Contact& c : sim.world().pair_contacts)
+  for (const Contact& c : sim.world().contacts.pairs())
     if (c.touching) EXPECT_EQ(s.level[c.i], s.level[c.j]) << "partners in touch share a level";
-  for (const Contact& c : sim.world().wall_contacts)
+  for (const Contact& c : sim.world().contacts.walls())
     if (c.touching) EXPECT_GE(s.level[c.i], 6) << "a grain on the floor takes contact steps";
 }
 

@@ -98,7 +98,7 @@ TEST(BlockHermiteRuns, OneAndTwoThreadsGiveIdenticalBits) {
   const World two = run_test_scenario("block_threads.toml", sorted, 2);
   ASSERT_GT(one.particles.size(), 4096u);
   std::size_t touching = 0;
-  for (const Contact& c : one.pair_contacts) touching += c.touching;
+  for (const Contact& c : one.contacts.pairs()) touching += c.touching;
   EXPECT_GT(touching, 100u) << "grains must collide";
   expect_same_run(one, two);
 }
@@ -109,7 +109,7 @@ TEST(BlockHermiteRuns, CellAndMultilevelSearchGiveIdenticalBits) {
   const World cell = run_test_scenario("block_sediment.toml", {"search.method=\"cell\""});
   const World multi = run_test_scenario("block_sediment.toml", {"search.method=\"multilevel\""});
   std::size_t touching = 0;
-  for (const Contact& c : cell.pair_contacts) touching += c.touching;
+  for (const Contact& c : cell.contacts.pairs()) touching += c.touching;
   EXPECT_GT(touching, 20u) << "grains must touch";
   expect_same_run(cell, multi);
 }

@@ -190,6 +190,22 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
   refused("XSUBUCKP" + bytes.substr(8), "magic");
 }
 
+// Version 2 stored a pair's spring as seen from its smaller index: the same bytes with
+// another meaning, so its files are refused, saying that an older tsubu wrote them.
+TEST(CheckpointFormat, Version2WithSpringsByIndexIsRefusedAsOlder) {
+  ASSERT_EQ(kCheckpointVersion, 3u);
+  std::string old = encode_checkpoint(sample_checkpoint());
+  old[8] = 2;
+  try {
+    decode_checkpoint(old);
+    ADD_FAILURE() << "accepted a version 2 checkpoint";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("format version 2, this tsubu reads version 3 (an older tsubu wrote it"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CheckpointFiles, TheLastTwoAreKeptNewestFirst) {
   TempDir dir;
   Checkpoint c = sample_checkpoint();

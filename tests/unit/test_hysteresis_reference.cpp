@@ -160,8 +160,8 @@ CaseResult run_case(const Row& c) {
   for (const Row& row : ref) {
     const auto step = static_cast<std::int64_t>(num(row, "step"));
     if (step > 0) {
-      const auto pairs_before = w.pair_contacts;
-      const auto walls_before = w.wall_contacts;
+      const auto pairs_before = w.contacts.pairs();
+      const auto walls_before = w.contacts.walls();
       if (geometry == "driven") {
         // Both spheres are moved, not integrated (LIGGGHTS fix move): x += v dt with the
         // prescribed velocity of this step; sphere 2 is held at rest.
@@ -182,8 +182,8 @@ CaseResult run_case(const Row& c) {
       }
       // The lists are rebuilt only between steps of the same contacts here (one or two
       // spheres never move a skin apart within a case), so entry k is the same contact.
-      if (pairs_before.size() == w.pair_contacts.size()) record_branches(pairs_before, w.pair_contacts, false);
-      if (walls_before.size() == w.wall_contacts.size()) record_branches(walls_before, w.wall_contacts, true);
+      if (pairs_before.size() == w.contacts.pairs().size()) record_branches(pairs_before, w.contacts.pairs(), false);
+      if (walls_before.size() == w.contacts.walls().size()) record_branches(walls_before, w.contacts.walls(), true);
     }
     const Sample s = sample();
     res.overlap.add(s.overlap, num(row, "overlap"));

@@ -206,7 +206,7 @@ using testing::same_bits;
 TEST(MultiLevelGrid, WholeRunBitIdenticalToCellGrid) {
   const World cell = run("poly_search.toml", {"search.method=\"cell\""});
   std::size_t touching = 0;
-  for (const auto& c : cell.pair_contacts) touching += c.touching;
+  for (const auto& c : cell.contacts.pairs()) touching += c.touching;
   EXPECT_GT(touching, 150u) << "the run should have many grain contacts";
   for (const std::string levels : {"", "1", "2", "4"}) {
     std::vector<std::string> set = {"search.method=\"multilevel\""};
@@ -216,7 +216,7 @@ TEST(MultiLevelGrid, WholeRunBitIdenticalToCellGrid) {
     EXPECT_TRUE(same_bits(cell.particles.position, multi.particles.position));
     EXPECT_TRUE(same_bits(cell.particles.velocity, multi.particles.velocity));
     EXPECT_TRUE(same_bits(cell.particles.omega, multi.particles.omega));
-    EXPECT_EQ(cell.pair_contacts.size(), multi.pair_contacts.size());
+    EXPECT_EQ(cell.contacts.pairs().size(), multi.contacts.pairs().size());
   }
 }
 

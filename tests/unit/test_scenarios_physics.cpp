@@ -43,7 +43,7 @@ TEST(Threads, OneAndTwoThreadsGiveIdenticalBits) {
   const std::vector<std::string> sorted = {"search.sort_every=50"};  // sorting takes part
   const World one = run("lattice_threads.toml", 1, sorted);
   const World two = run("lattice_threads.toml", 2, sorted);
-  ASSERT_GT(one.pair_contacts.size(), 4096u) << "the parallel contact loop must be exercised";
+  ASSERT_GT(one.contacts.pairs().size(), 4096u) << "the parallel contact loop must be exercised";
   EXPECT_TRUE(same_bits(one.particles.position, two.particles.position));
   EXPECT_TRUE(same_bits(one.particles.velocity, two.particles.velocity));
   EXPECT_TRUE(same_bits(one.particles.omega, two.particles.omega));

@@ -15,15 +15,16 @@ namespace tsubu {
 namespace {
 
 // Four grains placed against the Morton order, two pair contacts (one whose particles swap
-// order) and a wall contact, each with its own history.
+// order) and a wall contact, each with its own history (stored by id: here ids and indices
+// have the same order).
 TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   World w = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), 1e-6);
   w.domain = {{0, 0, 0}, {1, 1, 1}, {false, false, false}};
   const Vec3 at[4] = {{0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, {0.9, 0.1, 0.1}, {0.1, 0.9, 0.1}};
   for (int k = 0; k < 4; ++k) w.particles.add(10 + k, 0, 0.01 * (k + 1), 2500, at[k], {double(k), 0, 0});
   for (int k = 0; k < 4; ++k) w.particles.force[k] = {0, 0, double(k)};
-  w.pair_contacts = {{0, 1, true, {{1, 2, 3}, {4, 0}}}, {1, 2, true, {{5, 6, 7}, {8, 0}}}};
-  w.wall_contacts = {{0, 0, true, {{9, 9, 9}, {0, 0}}}};
+  w.contacts.assign({{0, 1, true, {{1, 2, 3}, {4, 0}}}, {1, 2, true, {{5, 6, 7}, {8, 0}}}},
+                    {{0, 0, true, {{9, 9, 9}, {0, 0}}}}, 4);
   sort_spatially(w);
 
   const Particles& p = w.particles;
@@ -36,20 +37,23 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
     EXPECT_EQ(p.force[i].z, k);
     EXPECT_DOUBLE_EQ(p.radius[i], 0.005 * (k + 1));
   }
-  // Pair ids (10, 11) became indices (3, 0): swapped, so the spring is reversed. Ids (11, 12)
+  // Pair ids (10, 11) became indices (3, 0): swapped, so the laws, which see a pair from its
+  // first index, see the spring reversed (stored by id, it is unchanged). Ids (11, 12)
   // became (0, 1): kept. Sorted by (i, j).
-  ASSERT_EQ(w.pair_contacts.size(), 2u);
-  EXPECT_EQ(w.pair_contacts[0].i, 0u);
-  EXPECT_EQ(w.pair_contacts[0].j, 1u);
-  EXPECT_EQ(w.pair_contacts[0].history.xi, (Vec3{5, 6, 7}));
-  EXPECT_EQ(w.pair_contacts[0].history.normal[0], 8);
-  EXPECT_EQ(w.pair_contacts[1].i, 0u);
-  EXPECT_EQ(w.pair_contacts[1].j, 3u);
-  EXPECT_EQ(w.pair_contacts[1].history.xi, (Vec3{-1, -2, -3}));
-  EXPECT_EQ(w.pair_contacts[1].history.normal[0], 4);
-  ASSERT_EQ(w.wall_contacts.size(), 1u);
-  EXPECT_EQ(w.wall_contacts[0].i, 3u);
-  EXPECT_EQ(w.wall_contacts[0].history.xi, (Vec3{9, 9, 9}));
+  const std::vector<Contact>& pairs = w.contacts.pairs();
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].i, 0u);
+  EXPECT_EQ(pairs[0].j, 1u);
+  EXPECT_EQ(pairs[0].law_history(p).xi, (Vec3{5, 6, 7}));
+  EXPECT_EQ(pairs[0].law_history(p).normal[0], 8);
+  EXPECT_EQ(pairs[1].i, 0u);
+  EXPECT_EQ(pairs[1].j, 3u);
+  EXPECT_EQ(pairs[1].law_history(p).xi, (Vec3{-1, -2, -3}));
+  EXPECT_EQ(pairs[1].law_history(p).normal[0], 4);
+  EXPECT_EQ(pairs[1].history.xi, (Vec3{1, 2, 3})) << "stored from id 10, whatever the indices";
+  ASSERT_EQ(w.contacts.walls().size(), 1u);
+  EXPECT_EQ(w.contacts.walls()[0].i, 3u);
+  EXPECT_EQ(w.contacts.walls()[0].history.xi, (Vec3{9, 9, 9}));
 }
 
 World run(const std::vector<std::string>& overrides) { return testing::run_test_scenario("settle_mono.toml", overrides); }
@@ -57,7 +61,7 @@ World run(const std::vector<std::string>& overrides) { return testing::run_test_
 // Sorting changes only the order in which each particle's contact forces are summed, so a
 // bed being poured, sorted every 500 steps, stays with the unsorted run to round-off: every
 // grain within 1e-9 of its diameter after 3000 steps (measured 1e-15 m). Forgetting to
-// reverse the spring of a pair whose particles swap order moves grains by 2e-5 m.
+// orient the spring of a pair whose particles swap order by its ids moves grains by 2e-5 m.
 TEST(SpatialSort, SortedRunIsTheSamePhysics) {
   const World plain = run({"simulation.duration=0.03", "search.sort_every=0"});
   const World sorted = run({"simulation.duration=0.03", "search.sort_every=500"});

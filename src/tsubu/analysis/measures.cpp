@@ -27,7 +27,7 @@ Packing packing_of(const World& w) { return {w.domain, w.particles.position, w.p
 
 std::vector<int> pair_contact_counts(const World& w) {
   std::vector<int> z(w.particles.size(), 0);
-  for (const Contact& c : w.pair_contacts)
+  for (const Contact& c : w.contacts.pairs())
     if (c.touching) ++z[c.i], ++z[c.j];
   return z;
 }

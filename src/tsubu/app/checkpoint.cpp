@@ -261,7 +261,8 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   if (bom != kByteOrderMark) throw CheckpointError("written on a machine of the other byte order");
   if (version != kCheckpointVersion)
     throw CheckpointError("format version " + std::to_string(version) + ", this tsubu reads version " +
-                          std::to_string(kCheckpointVersion));
+                          std::to_string(kCheckpointVersion) +
+                          (version < kCheckpointVersion ? " (an older tsubu wrote it: resume it with that tsubu, or run again)" : ""));
   if (size != bytes.size() - kHeaderSize)
     throw CheckpointError("truncated: the header announces " + std::to_string(size) + " payload bytes, the file has " +
                           std::to_string(bytes.size() - kHeaderSize));
@@ -418,11 +419,10 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
 World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesystem::path& file) {
   World world = build_empty_world(sc);
   world.particles = std::move(c.particles);
-  world.pair_contacts = std::move(c.pair_contacts);
-  world.wall_contacts = std::move(c.wall_contacts);
+  world.contacts.assign(std::move(c.pair_contacts), std::move(c.wall_contacts), world.particles.size());
   world.step = c.step;
   world.time = c.time;
-  for (const Contact& k : world.wall_contacts)
+  for (const Contact& k : world.contacts.walls())
     if (k.j >= world.walls.size()) throw std::runtime_error(file.string() + ": a wall contact names a wall the scenario lacks");
   if (c.wall_points.size() != world.walls.size())
     throw std::runtime_error(file.string() + ": it stores " + std::to_string(c.wall_points.size()) +

@@ -64,7 +64,9 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: the run id
+// 2: the run id; 3: a pair's history is stored as seen from its particle with the smaller id
+// (ContactList), not from the smaller index.
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload.

@@ -266,8 +266,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     // large run's state would double its peak memory), and given back whatever happens.
     auto lend = [&] {
       std::swap(c.particles, world.particles);
-      std::swap(c.pair_contacts, world.pair_contacts);
-      std::swap(c.wall_contacts, world.wall_contacts);
+      std::swap(c.pair_contacts, world.contacts.pairs());
+      std::swap(c.wall_contacts, world.contacts.walls());
     };
     lend();
     struct GiveBack {

@@ -13,22 +13,6 @@ namespace tsubu {
 
 namespace {
 
-// New contact list in the order of `found`, each carrying the history of the same key in
-// `old` (both sorted by (i, j)) or a fresh one.
-void carry_history(const std::vector<Pair>& found, const std::vector<Contact>& old, std::vector<Contact>& out) {
-  out.resize(found.size());
-  std::size_t o = 0;
-  for (std::size_t k = 0; k < found.size(); ++k) {
-    const Pair& f = found[k];
-    while (o < old.size() && (old[o].i < f.i || (old[o].i == f.i && old[o].j < f.j))) ++o;
-    out[k].i = f.i;
-    out[k].j = f.j;
-    const bool kept = o < old.size() && old[o].i == f.i && old[o].j == f.j;
-    out[k].touching = kept && old[o].touching;  // as of the last evaluation
-    out[k].history = kept ? old[o].history : ContactHistory{};
-  }
-}
-
 // Runs kernel(k, normal_model, tangential_model) for contacts k = 0..n-1 in parallel.
 // With one pair of model types for the whole table the dispatch happens once, outside the
 // loop; otherwise once per contact through a jump table (never a virtual call).
@@ -95,15 +79,6 @@ struct Lanes {
     set_history(b, h);
   }
 };
-
-// start[i] = how many contacts have particle(c) < i, for i = 0..n (for a list sorted by
-// particle(c), the first of particle i's contacts).
-template <class Particle>
-void count_starts(const std::vector<Contact>& contacts, std::size_t n, Particle particle, std::vector<std::uint32_t>& start) {
-  start.assign(n + 1, 0);
-  for (const Contact& c : contacts) ++start[particle(c) + 1];
-  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-}
 
 }  // namespace
 
@@ -178,17 +153,15 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   // they are freed before it, and the old lists and the search's candidates after it.
   pair_results_ = {}, wall_results_ = {};
   pair_rates_ = {}, wall_rates_ = {};
-  first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {};
+  ContactList& contacts = world.contacts;
+  contacts.release_index();
   grid_.configure(world.search);
   std::vector<Pair> candidates;
   grid_.find_pairs(probe, world.domain, margin, candidates);
-  std::vector<Contact> next;
-  carry_history(candidates, world.pair_contacts, next);
-  world.pair_contacts.swap(next);
+  contacts.carry_pairs(candidates);
   find_wall_contacts(world, probe, margin, candidates);
-  carry_history(candidates, world.wall_contacts, next);
-  world.wall_contacts.swap(next);
-  index_contacts(world);
+  contacts.carry_walls(candidates);
+  contacts.index(world.particles.size());
   ++rebuilds_;
 }
 
@@ -209,7 +182,7 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
 }
 
 void ForceField::evaluate_pairs(World& world) {
-  auto& contacts = world.pair_contacts;
+  const auto& contacts = world.contacts.pairs();
   pair_results_.resize(contacts.size(), shifts_);
   // Blocks are fixed ranges of the list, the same for any thread count, so each contact is
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
@@ -225,7 +198,7 @@ void ForceField::evaluate_pairs(World& world) {
 
 void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform) {
   const Particles& p = world.particles;
-  auto& contacts = world.pair_contacts;
+  auto& contacts = world.contacts.pairs();
   // Scalar pass, without a branch on touching (it is unpredictable): every entry's result is
   // cleared and its history kept only if it touches; the touching ones are listed.
   std::uint32_t touching[kBlock];
@@ -246,12 +219,12 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
   }
   if (shifts_)
     for (std::size_t k = begin; k < end; ++k) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
-  // The touching pairs' geometry and history go into lanes.
+  // The touching pairs' geometry and history (as the laws see it, from i) go into lanes.
   Lanes<kBlock> lanes;
   for (std::size_t b = 0; b < m; ++b) {
     const Contact& c = contacts[touching[b]];
     lanes.set_geometry(b, pair_geometry(p, c.i, c.j, separation[b]));
-    lanes.set_history(b, c.history);
+    lanes.set_history(b, c.law_history(p));
   }
   const double dt = world.dt;
   if (uniform) {
@@ -267,7 +240,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
   for (std::size_t b = 0; b < m; ++b) {
     const std::size_t k = touching[b];
     Contact& c = contacts[k];
-    c.history = lanes.history(b);
+    c.set_law_history(p, lanes.history(b));
     const double delta = lanes.delta[b];
     const Vec3 n = lanes.get(lanes.n, b);
     pair_results_.set(k, lanes.get(lanes.total, b), cross(n, lanes.get(lanes.tangential, b)), delta, lanes.energy[b]);
@@ -281,7 +254,7 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
 
 void ForceField::evaluate_walls(World& world) {
   const Particles& p = world.particles;
-  auto& contacts = world.wall_contacts;
+  auto& contacts = world.contacts.walls();
   wall_results_.resize(contacts.size(), shifts_);
   const double dt = world.dt;
   auto law_of = [&](std::size_t k) -> const PairLaw& {
@@ -308,18 +281,6 @@ void ForceField::evaluate_walls(World& world) {
     wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy);
     if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
   });
-}
-
-void ForceField::index_contacts(const World& world) {
-  const std::size_t n = world.particles.size();
-  const auto& contacts = world.pair_contacts;
-  auto first = [](const Contact& c) { return c.i; };
-  count_starts(contacts, n, first, first_start_);
-  count_starts(contacts, n, [](const Contact& c) { return c.j; }, second_start_);
-  second_index_.resize(contacts.size());
-  std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
-  for (std::uint32_t k = 0; k < contacts.size(); ++k) second_index_[fill[contacts[k].j]++] = k;
-  count_starts(world.wall_contacts, n, first, wall_start_);
 }
 
 void ForceField::accumulate(World& world, double fluid_lead) {
@@ -354,7 +315,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.
       int count = 0, own = 0;
       double deepest = 0;
-      for_each_contact_of(i, [&](std::uint32_t k, int side) {
+      world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
         const Results& r = side == 0 ? wr : pr;
         if (side < 0) force -= r.entry[k].force_i;  // i is the pair's j
         else force += r.entry[k].force_i;
@@ -389,14 +350,14 @@ ContactTotals ForceField::totals(const World& world) const {
       totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, overlap_ratio(world, k, is_wall));
     }
   };
-  add(world.pair_contacts, pair_results_, false);
-  add(world.wall_contacts, wall_results_, true);
+  add(world.contacts.pairs(), pair_results_, false);
+  add(world.contacts.walls(), wall_results_, true);
   return totals;
 }
 
 double ForceField::wall_load(const World& world, std::size_t wall) const {
   double load = 0;
-  const auto& contacts = world.wall_contacts;
+  const auto& contacts = world.contacts.walls();
   for (std::size_t k = 0; k < contacts.size(); ++k)
     if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
   return load;
@@ -404,8 +365,8 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
 
 double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall) const {
   const Particles& p = world.particles;
-  if (is_wall) return wall_results_.entry[k].delta / (2.0 * p.radius[world.wall_contacts[k].i]);
-  const Contact& c = world.pair_contacts[k];
+  if (is_wall) return wall_results_.entry[k].delta / (2.0 * p.radius[world.contacts.walls()[k].i]);
+  const Contact& c = world.contacts.pairs()[k];
   return pair_results_.entry[k].delta / (2.0 * std::min(p.radius[c.i], p.radius[c.j]));
 }
 
@@ -421,8 +382,8 @@ void ForceField::report_overlap(const World& world) const {
       if (contacts[k].touching && !(r <= ratio)) ratio = r, worst = &contacts[k], wall = is_wall;
     }
   };
-  scan(world.pair_contacts, pair_results_, false);
-  scan(world.wall_contacts, wall_results_, true);
+  scan(world.contacts.pairs(), pair_results_, false);
+  scan(world.contacts.walls(), wall_results_, true);
   std::ostringstream msg;
   msg << "step " << world.step << ", t = " << world.time << " s: ";
   std::string model;  // the normal model of the worst contact

@@ -48,9 +48,9 @@ struct EvaluationRates {
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
 };
 
-// Neighbour lists (pairs and walls within `skin` of touching) are rebuilt, carrying every
-// history over, once some particle has moved more than skin/2 since the last build; in
-// between, each step only evaluates the listed pairs.
+// Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
+// carrying every history over, once some particle has moved more than skin/2 since the last
+// build; in between, each step only evaluates the listed pairs.
 class ForceField {
  public:
   // Evaluates every touching contact and sums forces and torques (with gravity) into
@@ -83,12 +83,6 @@ class ForceField {
   // Renumbers the particles along a space-filling curve (sort_spatially) and returns
   // order[new] = old; the lists are rebuilt at the next evaluation.
   std::vector<std::uint32_t> sort(World& world);
-  // f(partner, contact) for every listed pair of particle i (as of the last build).
-  template <class F>
-  void for_each_pair_of(const World& world, std::size_t i, F&& f) const {
-    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) f(world.pair_contacts[second_index_[s]].i, second_index_[s]);
-    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(world.pair_contacts[k].j, k);
-  }
   double skin() const { return skin_; }
   // The neighbour-list margin of a world: world.skin, or a tenth of the smallest diameter.
   static double skin_of(const World& world);
@@ -143,11 +137,6 @@ class ForceField {
   bool shifts_ = false;         // some law corrects positions
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
   double skin_ = 0;
-  // Contacts of each particle, in ascending contact order. The lists are sorted by (i, j), so
-  // the pairs where particle i is the first are the range [first_start_[i], first_start_[i+1]),
-  // and those where it is the second, which all come before them, are
-  // second_index_[second_start_[i] .. second_start_[i+1]). Its walls: [wall_start_[i], wall_start_[i+1]).
-  std::vector<std::uint32_t> first_start_, second_start_, second_index_, wall_start_;
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
   bool needs_rebuild(const World& world) const;
@@ -168,15 +157,6 @@ class ForceField {
   // uniform: every material pair has the same model types (LawTable::uniform()).
   void evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform);
   void evaluate_walls(World& world);
-  void index_contacts(const World& world);
-  // visit(k, side) for particle i's contacts in the gather's order: pairs where i is second
-  // (side -1), pairs where it is first (+1), walls (0).
-  template <class Visit>
-  void for_each_contact_of(std::size_t i, Visit&& visit) const {
-    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) visit(second_index_[s], -1);
-    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
-    for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);
-  }
   void accumulate(World& world, double fluid_lead);
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;

@@ -52,7 +52,7 @@ template <class Normal, class Tangential>
 void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
                                      const Normal& normal, const Tangential& tangential) {
   const Particles& p = world.particles;
-  Contact& c = world.pair_contacts[k];
+  Contact& c = world.contacts.pairs()[k];
   const Kinematics a = kin.at(c.i), b = kin.at(c.j);
   const Vec3 d = world.domain.separation(a.x, b.x);
   const double ri = p.radius[c.i], rj = p.radius[c.j], reach = ri + rj;
@@ -73,7 +73,9 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
                                               DualVec3(a.v, a.a), DualVec3(b.v, b.a), DualVec3(a.w, a.alpha),
                                               DualVec3(b.w, b.alpha));
   g.dt = static_cast<double>(kin.now - std::max(kin.s.time[c.i], kin.s.time[c.j])) * kin.tick;
-  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
+  ContactHistory h = c.law_history(p);
+  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, h);
+  c.set_law_history(p, h);
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
   pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
@@ -85,7 +87,7 @@ template <class Normal, class Tangential>
 void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
                                      const Normal& normal, const Tangential& tangential) {
   const Particles& p = world.particles;
-  Contact& c = world.wall_contacts[k];
+  Contact& c = world.contacts.walls()[k];
   const Wall& wall = world.walls[c.j];
   const Kinematics a = kin.at(c.i);
   const double r = p.radius[c.i];
@@ -116,8 +118,9 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
   Particles& p = world.particles;
-  const auto& pairs = world.pair_contacts;
-  const auto& walls = world.wall_contacts;
+  const ContactList& contacts = world.contacts;
+  const auto& pairs = contacts.pairs();
+  const auto& walls = contacts.walls();
   pair_results_.resize(pairs.size(), false);
   wall_results_.resize(walls.size(), false);
   pair_rates_.resize(pairs.size());
@@ -126,7 +129,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   // particles are disjoint, so the active list can be split between threads.
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
-    for_each_contact_of(i, [&](std::uint32_t k, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
       if (side == 0) {
         const Contact& c = walls[k];
         visit_law(world.laws.at(p.material[c.i], world.walls[c.j].material),
@@ -151,7 +154,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     int count = 0, own = 0;
     std::uint64_t evaluated = 0;
     double deepest = 0, bound = kNever, damping_over_mass = 0;
-    for_each_contact_of(i, [&](std::uint32_t c, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t c, int side) {
       const Results& res = side == 0 ? wall_results_ : pair_results_;
       const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
       const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
@@ -196,16 +199,17 @@ void ForceField::dashpot_response(const World& world, const std::vector<std::uin
                                   const std::vector<Vec3>& dv, const std::vector<Vec3>& dw, std::vector<Vec3>& df,
                                   std::vector<Vec3>& dtorque) const {
   const Particles& p = world.particles;
+  const ContactList& contacts = world.contacts;
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
     Vec3 force, torque;
-    for_each_contact_of(i, [&](std::uint32_t c, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t c, int side) {
       const Results& res = side == 0 ? wall_results_ : pair_results_;
       const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
       const double delta = res.entry[c].delta;
       if (!(delta > 0)) return;
       // The contact's first particle a (i itself for walls) and its partner b.
-      const Contact& k = side == 0 ? world.wall_contacts[c] : world.pair_contacts[c];
+      const Contact& k = side == 0 ? contacts.walls()[c] : contacts.pairs()[c];
       const std::uint32_t a = k.i;
       const double arm_a = p.radius[a] - 0.5 * delta;
       const Vec3 du = side == 0 ? contact_point_velocity(rt.n, arm_a, 0.0, dv[a], dw[a], Vec3{})

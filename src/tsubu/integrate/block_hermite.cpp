@@ -105,7 +105,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   }
   stats_.evaluations[0] += n;  // the first evaluation, counted once
   std::fill(contacts_before.begin(), contacts_before.end(), -1);  // every step is a first step
-  choose_levels(world, forces, now, contacts_before);
+  choose_levels(world, now, contacts_before);
   std::fill(is_active_.begin(), is_active_.end(), 0);
   active_.clear();
 }
@@ -221,17 +221,18 @@ void BlockHermite::collect_active(std::int64_t t) {
   for (std::uint32_t i : active_) is_active_[i] = 1;
 }
 
-void BlockHermite::wake(const World& world, const ForceField& forces, std::int64_t t) {
+void BlockHermite::wake(const World& world, std::int64_t t) {
   // A listed neighbour that would touch an active particle at t joins the evaluation, with
   // every particle it touches (they share its time): a contact is never evaluated from one
   // side only. Its step then ends at t, not at a power of two: the corrector takes any h.
   const Predictor kin = predictor(world, t);
   const Particles& p = world.particles;
+  const ContactList& contacts = world.contacts;
   std::vector<std::uint32_t> stack;
   for (std::size_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t i = active_[q];
     const Vec3 xi = kin.at(i).x;
-    forces.for_each_pair_of(world, i, [&](std::uint32_t j, std::uint32_t) {
+    contacts.for_each_pair_of(i, [&](std::uint32_t j, std::uint32_t) {
       if (is_active_[j]) return;
       const double reach = p.radius[i] + p.radius[j];
       if (norm2(world.domain.separation(xi, kin.at(j).x)) >= reach * reach) return;
@@ -243,8 +244,8 @@ void BlockHermite::wake(const World& world, const ForceField& forces, std::int64
         is_active_[w] = w == j ? 2 : 1;  // 2: its new contact woke it (see correct())
         active_.push_back(w);
         ++stats_.wakes;
-        forces.for_each_pair_of(world, w, [&](std::uint32_t y, std::uint32_t k) {
-          if (!is_active_[y] && world.pair_contacts[k].touching) stack.push_back(y);
+        contacts.for_each_pair_of(w, [&](std::uint32_t y, std::uint32_t k) {
+          if (!is_active_[y] && contacts.pairs()[k].touching) stack.push_back(y);
         });
       }
     });
@@ -367,7 +368,7 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
   }
 }
 
-void BlockHermite::choose_levels(const World& world, const ForceField& forces, std::int64_t t,
+void BlockHermite::choose_levels(const World& world, std::int64_t t,
                                  const std::vector<int>& contacts_before) {
   const Particles& p = world.particles;
   // Each active particle's wish: contacts and gaps (from the evaluation), the fluid's
@@ -397,8 +398,8 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
   where.resize(p.size(), UINT32_MAX);
   for (std::uint32_t q = 0; q < active_.size(); ++q) where[active_[q]] = q;
   for (std::uint32_t q = 0; q < active_.size(); ++q)
-    forces.for_each_pair_of(world, active_[q], [&](std::uint32_t j, std::uint32_t k) {
-      if (world.pair_contacts[k].touching && where[j] != UINT32_MAX) {
+    world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t k) {
+      if (world.contacts.pairs()[k].touching && where[j] != UINT32_MAX) {
         const std::uint32_t a = root(parent, q), b = root(parent, where[j]);
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
       }
@@ -441,12 +442,12 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     const Predictor kin = predictor(world, t);
     for (std::size_t q = 0; q < active_.size() && !lists_stale_; ++q) lists_stale_ = list_outrun(world, kin, active_[q]);
     if (lists_stale_) rebuild_lists(world, forces, t);
-    wake(world, forces, t);
+    wake(world, t);
     contacts_before.resize(active_.size());
     for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
     evaluate(world, forces, t);
     correct(world, forces, t, contacts_before);
-    choose_levels(world, forces, t, contacts_before);
+    choose_levels(world, t, contacts_before);
     for (std::uint32_t i : active_) is_active_[i] = 0;
     ++stats_.block_times;
     now = t;

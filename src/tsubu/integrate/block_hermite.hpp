@@ -89,11 +89,11 @@ class BlockHermite {
   void set_level(std::uint32_t i, int level);
   void index_levels();
   void collect_active(std::int64_t t);
-  void wake(const World& world, const ForceField& forces, std::int64_t t);
+  void wake(const World& world, std::int64_t t);
   void evaluate(World& world, ForceField& forces, std::int64_t t);
   void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
   void correct_dashpots(World& world, const ForceField& forces);
-  void choose_levels(const World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
+  void choose_levels(const World& world, std::int64_t t, const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
   int level_for(double bound, const World& world) const;

@@ -26,8 +26,6 @@ void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
   a.swap(sorted);
 }
 
-bool by_pair(const Contact& a, const Contact& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
-
 }  // namespace
 
 std::vector<std::uint32_t> sort_spatially(World& world) {
@@ -52,16 +50,7 @@ std::vector<std::uint32_t> sort_spatially(World& world) {
 
   std::vector<std::uint32_t> renumber(n);  // renumber[old] = new
   for (std::uint32_t k = 0; k < n; ++k) renumber[order[k]] = k;
-  for (Contact& c : world.pair_contacts) {
-    c.i = renumber[c.i], c.j = renumber[c.j];
-    if (c.i > c.j) {
-      std::swap(c.i, c.j);
-      c.history.xi = -c.history.xi;
-    }
-  }
-  for (Contact& c : world.wall_contacts) c.i = renumber[c.i];
-  std::sort(world.pair_contacts.begin(), world.pair_contacts.end(), by_pair);
-  std::sort(world.wall_contacts.begin(), world.wall_contacts.end(), by_pair);
+  world.contacts.renumber(renumber);
   return order;
 }
 

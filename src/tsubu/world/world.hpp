@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "tsubu/contact/contact_list.hpp"
 #include "tsubu/contact/law.hpp"
 #include "tsubu/fluid/fluid.hpp"
 #include "tsubu/search/pair_search.hpp"
@@ -10,16 +11,6 @@
 #include "tsubu/world/particles.hpp"
 
 namespace tsubu {
-
-// An entry of the neighbour list: a pair closer than the skin, with its contact history
-// kept beside it. For particle pairs `j` is the partner (i < j); for walls it is the wall
-// index. Lists are sorted by (i, j). `touching` says whether the pair overlaps now; the
-// history of a pair that does not is empty.
-struct Contact {
-  std::uint32_t i, j;
-  bool touching = false;
-  ContactHistory history;
-};
 
 struct World {
   Domain domain;
@@ -34,8 +25,7 @@ struct World {
   std::int64_t step = 0;
   double overlap_limit = 0.1;  // largest overlap / smaller diameter before the run stops
   double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
-  std::vector<Contact> pair_contacts;
-  std::vector<Contact> wall_contacts;
+  ContactList contacts;  // neighbour lists with their histories (contact/contact_list.hpp)
   SearchSpec search;  // contact search method of the neighbour-list builds
 };
 

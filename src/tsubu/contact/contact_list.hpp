@@ -1,0 +1,104 @@
+// The contacts of a run: the neighbour lists (pairs and walls within the skin of touching),
+// each entry's contact history, and the index of every particle's entries. The force field
+// evaluates and gathers through it, the block-step stepper walks a particle's partners with
+// it, and a renumbering of the particles (spatial sort) renumbers it.
+//
+// A pair's identity and orientation come from the particles' ids, not their indices: its
+// history is stored as seen from the particle with the smaller id, so renumbering never
+// changes it. The lists themselves stay ordered by index, which fixes the gather's
+// summation order.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "tsubu/contact/geometry.hpp"
+#include "tsubu/search/pair_search.hpp"
+#include "tsubu/world/particles.hpp"
+
+namespace tsubu {
+
+// An entry of a neighbour list. Pairs: particles i < j (indices). Walls: particle i, wall j.
+// `touching` says whether it overlapped at the last evaluation; the history of an entry
+// that does not is empty.
+//
+// A pair's history is stored as seen from its particle with the smaller id. The contact
+// laws see a pair from its particle i: n points from j to i, and the tangential spring xi is
+// the displacement of i's contact point against j's. When the two particles swap roles each
+// history slot transforms as follows (law_history() and set_law_history() apply it when the
+// smaller id is j's):
+//   xi         -> -xi       (a vector in the contact plane, seen from the other side)
+//   normal[0]  -> normal[0] (model HH's largest overlap: a property of the pair)
+//   normal[1]  -> normal[1] (unused; a new normal slot must be symmetric or listed here)
+// Negation is exact, so the laws get the same bits as if the spring were stored from i (but
+// for the sign of the zeros of an empty spring, which no particle's force sees: its sums
+// start from +0, and +0 plus or minus a zero is +0). Equal ids (never in a run, where ids
+// are unique) keep the index order.
+struct Contact {
+  std::uint32_t i, j;
+  bool touching = false;
+  ContactHistory history;
+
+  // Pairs only.
+  bool seen_from_j(const Particles& p) const { return p.id[i] > p.id[j]; }
+  ContactHistory law_history(const Particles& p) const {
+    ContactHistory h = history;
+    if (seen_from_j(p)) h.xi = -h.xi;
+    return h;
+  }
+  void set_law_history(const Particles& p, ContactHistory h) {
+    if (seen_from_j(p)) h.xi = -h.xi;
+    history = h;
+  }
+};
+
+class ContactList {
+ public:
+  // Sorted by (i, j).
+  std::vector<Contact>& pairs() { return pairs_; }
+  const std::vector<Contact>& pairs() const { return pairs_; }
+  std::vector<Contact>& walls() { return walls_; }
+  const std::vector<Contact>& walls() const { return walls_; }
+
+  // New lists from a search (`found` sorted by (i, j)): each entry carries the touching flag
+  // and history of the same pair in the old list, or starts empty. Call index() after both.
+  void carry_pairs(const std::vector<Pair>& found) { pairs_ = carry(found, pairs_); }
+  void carry_walls(const std::vector<Pair>& found) { walls_ = carry(found, walls_); }
+  // Lists from elsewhere (a checkpoint, a test; histories stored by id, sorted by (i, j)),
+  // indexed over n particles.
+  void assign(std::vector<Contact> pairs, std::vector<Contact> walls, std::size_t n);
+  // The particles were renumbered (new_index[old] = new): the entries follow their
+  // particles and are sorted by (i, j) again. No history changes.
+  void renumber(const std::vector<std::uint32_t>& new_index);
+
+  // The per-particle index over n particles, after the lists changed; release_index() frees
+  // it (before a search, to lower the peak memory).
+  void index(std::size_t n);
+  void release_index() { first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {}; }
+
+  // f(partner, k) for every listed pair k of particle i.
+  template <class F>
+  void for_each_pair_of(std::size_t i, F&& f) const {
+    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) f(pairs_[second_index_[s]].i, second_index_[s]);
+    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(pairs_[k].j, k);
+  }
+  // visit(k, side) for particle i's entries in the gather's order: pairs where i is second
+  // (side -1), pairs where it is first (+1), walls (0); each group in ascending k.
+  template <class Visit>
+  void for_each_contact_of(std::size_t i, Visit&& visit) const {
+    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) visit(second_index_[s], -1);
+    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
+    for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);
+  }
+
+ private:
+  std::vector<Contact> pairs_, walls_;
+  // The lists are sorted by (i, j), so the pairs where particle i is the first are the range
+  // [first_start_[i], first_start_[i+1]), and those where it is the second, which all come
+  // before them, are second_index_[second_start_[i] .. second_start_[i+1]). Its walls:
+  // [wall_start_[i], wall_start_[i+1]).
+  std::vector<std::uint32_t> first_start_, second_start_, second_index_, wall_start_;
+
+  static std::vector<Contact> carry(const std::vector<Pair>& found, const std::vector<Contact>& old);
+};
+
+}  // namespace tsubu
