@@ -402,6 +402,12 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   return load;
 }
 
+std::optional<ForceField::ContactResult> ForceField::contact_result(std::size_t k, bool wall) const {
+  const Results& results = wall ? wall_results_ : pair_results_;
+  if (k >= results.entry.size()) return std::nullopt;
+  return ContactResult{results.entry[k].force_i, results.entry[k].delta};
+}
+
 double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall) const {
   const Particles& p = world.particles;
   if (is_wall) return wall_results_.entry[k].delta / (2.0 * p.radius[world.wall_contacts[k].i]);

@@ -2,6 +2,7 @@
 // (World::fluid) and all pair and wall contacts.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "tsubu/integrate/hermite_state.hpp"
@@ -81,6 +82,14 @@ class ForceField {
   // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
   // N, from the last evaluation.
   double wall_load(const World& world, std::size_t wall) const;
+  // Listed pair k (or wall contact k) at its last evaluation: the force on its particle i
+  // (N) and the overlap (m), zeros when it did not touch. Empty before the current lists'
+  // first evaluation (a run resumed from a checkpoint, until its next step).
+  struct ContactResult {
+    Vec3 force_i;
+    double overlap = 0;
+  };
+  std::optional<ContactResult> contact_result(std::size_t k, bool wall) const;
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
   // Resuming from a checkpoint: the counters continue; the lists are rebuilt on the next
