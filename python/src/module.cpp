@@ -43,7 +43,9 @@ struct PySimulation {
 // TOML string), and lists or tuples of these.
 std::string toml_value(py::handle v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) return py::repr(v).cast<std::string>();
+  const auto value = py::reinterpret_borrow<py::object>(v);
+  if (py::isinstance<py::int_>(v)) return py::repr(py::int_(value)).cast<std::string>();
+  if (py::isinstance<py::float_>(v)) return py::repr(py::float_(value)).cast<std::string>();  // NumPy's float64 too
   if (py::isinstance<py::str>(v))
     return py::module_::import("json").attr("dumps")(v, py::arg("ensure_ascii") = false).cast<std::string>();
   if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v) || py::isinstance<py::array>(v)) {

@@ -5,7 +5,6 @@
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/source/build_world.hpp"
-#include "tsubu/version.hpp"
 
 namespace tsubu::python {
 
@@ -67,13 +66,7 @@ bool Session::contacts_evaluated() const {
 
 void Session::checkpoint(const std::filesystem::path& file) {
   Checkpoint c;
-  c.engine_version = kVersion;
-  c.scenario_path = scenario_.file;
-  c.scenario_text = scenario_.text;
-  c.overrides = scenario_.overrides;
-  c.scenario_hash = scenario_.hash;
-  store_simulation(sim_, c);
-  if (inflow_) c.inflow = {true, inflow_->first_id(), inflow_->state()};
+  store_simulation(scenario_, sim_, inflow_ ? &*inflow_ : nullptr, c);
   with_state_lent(sim_, c, [&] { write_file_atomically(file, encode_checkpoint(c)); });
 }
 

@@ -13,11 +13,11 @@ def test_scenario_errors_name_file_line_and_key(tmp_path):
     with pytest.raises(tsubu.ScenarioError) as e:
         tsubu.Simulation(path)
     assert isinstance(e.value, ValueError)
-    assert str(e.value).startswith(f"{path}:3: simulation.dt: ")
+    assert str(e.value).startswith(f"{path}:6: simulation.dt: ")
 
 
 def test_scenario_text_errors_name_the_text():
-    with pytest.raises(tsubu.ScenarioError, match=r"^<scenario text>:15: materials\[0\]\.density: must be > 0, got -1$"):
+    with pytest.raises(tsubu.ScenarioError, match=r"^<scenario text>:18: materials\[0\]\.density: must be > 0, got -1$"):
         tsubu.Simulation(bed_text().replace("density = 2500", "density = -1"))
 
 
@@ -30,6 +30,11 @@ def test_overrides_use_the_command_lines_parser(bed):
     sim = tsubu.Simulation(bed, overrides={"simulation.dt": 2e-6, "search.sort_every": 0, "simulation.integrator": "symplectic_euler"})
     assert (sim.dt, sim.integrator) == (2e-6, "symplectic_euler")
     assert tsubu.Simulation(bed, overrides=["simulation.dt=2e-6"]).dt == 2e-6
+    # NumPy values and str as TOML strings (quotes escaped).
+    sim = tsubu.Simulation(bed, overrides={"simulation.dt": np.float64(2e-6), "simulation.seed": np.int64(6),
+                                           "simulation.gravity": np.array([0.0, 0.0, -9.81]),
+                                           "simulation.name": 'bed "two"'})
+    assert (sim.dt, sim.name) == (2e-6, 'bed "two"')
     with pytest.raises(tsubu.ScenarioError, match=r"^--set simulation\.dt=x:1: simulation\.dt: the value is not valid TOML"):
         tsubu.Simulation(bed, overrides=["simulation.dt=x"])
     with pytest.raises(tsubu.ScenarioError, match="simulation.integrator"):

@@ -261,14 +261,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series.flush();
     if (track.is_open()) track.flush();
     Checkpoint c;
-    c.engine_version = kVersion;
+    store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
     c.run_id = run_id;
-    c.scenario_path = sc.file;
-    c.scenario_text = sc.text;
-    c.overrides = sc.overrides;
-    c.scenario_hash = sc.hash;
-    store_simulation(sim, c);
-    if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frame;

@@ -5,10 +5,16 @@
 #include <string>
 
 #include "tsubu/source/build_world.hpp"
+#include "tsubu/version.hpp"
 
 namespace tsubu {
 
-void store_simulation(const Simulation& sim, Checkpoint& c) {
+void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c) {
+  c.engine_version = kVersion;
+  c.scenario_path = sc.file;
+  c.scenario_text = sc.text;
+  c.overrides = sc.overrides;
+  c.scenario_hash = sc.hash;
   const World& world = sim.world();
   c.step = world.step;
   c.time = world.time;
@@ -26,6 +32,7 @@ void store_simulation(const Simulation& sim, Checkpoint& c) {
   c.wall_points.clear();
   c.wall_velocities.clear();
   for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
+  if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
 }
 
 void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>& write) {

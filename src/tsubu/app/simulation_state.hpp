@@ -6,13 +6,16 @@
 
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/simulation.hpp"
 
 namespace tsubu {
 
-// The clock, the force counters, the walls and the block-step state of sim into c. The
-// particles and contact lists are not copied (with_state_lent).
-void store_simulation(const Simulation& sim, Checkpoint& c);
+// The run into c: this engine's version, the scenario (text, file, overrides, hash), sim's
+// clock, force counters, walls and block-step state, and the inflow's stream (if any). The
+// particles and contact lists are not copied (with_state_lent); the driver adds its own
+// (run id, outputs, energy watch).
+void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c);
 
 // Runs `write` with sim's particles and contact lists lent to c (moved in, not copied: a copy
 // of a large run's state would double its peak memory) and given back whatever happens.
