@@ -56,3 +56,23 @@ def test_sigint_stops_between_steps_with_a_consistent_state():
         child.kill()
     assert child.returncode == 0, err
     assert out.startswith("interrupted at step"), (out, err)
+
+
+def test_the_gil_is_released_while_stepping_and_the_state_is_guarded(bed):
+    import threading
+
+    import tsubu
+
+    sim = tsubu.Simulation(bed)
+    worker = threading.Thread(target=sim.advance_to, args=(0.02,))  # 4000 steps
+    worker.start()
+    refused = 0
+    while worker.is_alive():  # this thread runs meanwhile: the GIL is free
+        try:
+            sim.positions
+        except RuntimeError as e:
+            assert "stepping in another thread" in str(e)
+            refused += 1
+    worker.join()
+    assert refused > 0
+    assert sim.step_count == 4000 and sim.positions.shape[0] == sim.particle_count

@@ -20,7 +20,8 @@ for _name in ("CheckpointError", "NumericalError", "ScenarioError", "Simulation"
     globals()[_name].__module__ = __name__  # tsubu.ScenarioError, not tsubu._core.ScenarioError
 del _name
 
-# The pure-Python helpers on top of the binding (run folders, sweeps) are imported here.
+# The pure-Python modules on top of the binding (runs.py: read_run, sweep.py: sweep) are
+# imported below this line, and their names added to __all__.
 
 __all__ = [
     "CheckpointError",
