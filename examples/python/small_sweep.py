@@ -7,22 +7,21 @@ coordination number of each deposit against the flux, and the grains in the box 
 
 Run from the repository's root (the sweep writes out/sweeps/ci/; re-running reuses the
 finished runs). Needs numpy and matplotlib; the tsubu executable is found as the sweep finds
-it ($TSUBU_BIN, tsubu on the PATH, build/tsubu). docs/sweeps.md describes both modules.
+it ($TSUBU_BINARY, tsubu on the PATH, build/tsubu). docs/sweeps.md describes both modules.
 """
 import argparse
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "python"))  # the tsubu package of this checkout
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from tsubu.runs import read_run  # noqa: E402
-from tsubu.sweep import run_sweep  # noqa: E402
+from tsubu.runs import read_run
+from tsubu.sweep import run_sweep
 
 PHI_0 = 0.1  # the paper's highest flux Q_0 (docs/sedimentation.md)
 

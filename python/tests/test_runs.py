@@ -14,7 +14,7 @@ import pytest
 from tsubu.runs import RunError, read_dataset, read_run, read_table
 
 ROOT = Path(__file__).resolve().parents[2]
-TSUBU = os.environ.get("TSUBU_BIN", str(ROOT / "build" / "tsubu"))
+TSUBU = os.environ.get("TSUBU_BINARY", str(ROOT / "build" / "tsubu"))
 
 try:
     import vtkmodules.vtkIOXML  # noqa: F401
@@ -73,8 +73,15 @@ def test_frames(run_dir):
     assert ((last.points >= lo) & (last.points <= hi)).all()
     with pytest.raises(KeyError, match="no array 'pressure'"):
         last["pressure"]
+    assert len(run.contact_frame(0)) == 0 and "walls" in run.collections  # no grains yet at t = 0
+
+
+def test_a_run_without_a_contact_network(run_dir, tmp_path):
+    copy = tmp_path / "run"
+    shutil.copytree(run_dir, copy)
+    (next(copy.rglob("contacts.pvd"))).unlink()
     with pytest.raises(RunError, match="no contacts.pvd"):
-        run.contact_frame(0)
+        read_run(copy).contact_frame(0)
 
 
 @pytest.mark.skipif(not HAVE_VTK, reason="the vtk module (python3-vtk9) is not importable")

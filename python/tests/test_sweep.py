@@ -16,10 +16,9 @@ import pytest
 from tsubu.sweep import SweepError, load_sweep, run_sweep, toml_value
 
 ROOT = Path(__file__).resolve().parents[2]
-TSUBU = os.environ.get("TSUBU_BIN", str(ROOT / "build" / "tsubu"))
+TSUBU = os.environ.get("TSUBU_BINARY", str(ROOT / "build" / "tsubu"))
 SCENARIO = ROOT / "tests" / "scenarios" / "inflow_small.toml"
-ENV = {**os.environ, "TSUBU_BIN": TSUBU, "PYTHONPATH": os.pathsep.join(
-    [str(ROOT / "python"), *filter(None, [os.environ.get("PYTHONPATH")])])}
+ENV = {**os.environ, "TSUBU_BINARY": TSUBU}  # and PYTHONPATH: the built package (CTest)
 GRID = {"particles.0.solid_fraction": [0.1, 0.05], "simulation.seed": [3, 4]}
 CASES = ["solid_fraction=0.1,seed=3", "solid_fraction=0.1,seed=4", "solid_fraction=0.05,seed=3",
          "solid_fraction=0.05,seed=4"]
@@ -136,7 +135,7 @@ def test_interrupt_stops_runs_with_checkpoints(grid_run, tmp_path):
     cases = [tmp_path / "out" / CASES[0], tmp_path / "out" / CASES[2]]
     proc = subprocess.Popen([sys.executable, "-m", "tsubu.sweep", str(file)], env=ENV, stderr=subprocess.PIPE,
                             text=True)
-    wait_for(lambda: all((c / "vtk" / "frame_00001.vtu").exists() for c in cases), "both runs to write frame 1")
+    wait_for(lambda: all((c / "frames" / "frame_00001.vtu").exists() for c in cases), "both runs to write frame 1")
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 4, err

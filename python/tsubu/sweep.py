@@ -241,15 +241,15 @@ def load_sweep(sweep):
 
 
 def find_tsubu(tsubu=None):
-    """The tsubu executable: the argument, else $TSUBU_BIN, else `tsubu` on the PATH, else the
+    """The tsubu executable: the argument, else $TSUBU_BINARY, else `tsubu` on the PATH, else the
     repository's build/tsubu."""
-    candidates = [tsubu, os.environ.get("TSUBU_BIN"), shutil.which("tsubu"),
+    candidates = [tsubu, os.environ.get("TSUBU_BINARY"), shutil.which("tsubu"),
                   Path(__file__).resolve().parents[2] / "build" / "tsubu"]
     for c in candidates:
         if c and Path(c).is_file() and os.access(c, os.X_OK):
             return Path(c).resolve()
     raise SweepError(f"tsubu: no executable found (tried {', '.join(str(c) for c in candidates if c)}); "
-                     "give --tsubu PATH or set TSUBU_BIN")
+                     "give --tsubu PATH or set TSUBU_BINARY")
 
 
 def _duration(seconds):
@@ -421,7 +421,7 @@ def main(argv=None):
     parser.add_argument("--jobs", type=int, help="runs at a time (default: the file's jobs, else the cores)")
     parser.add_argument("--dry-run", action="store_true", help="print what each case would run, run nothing")
     parser.add_argument("--retry-failed", action="store_true", help="run failed cases again from the start")
-    parser.add_argument("--tsubu", help="the tsubu executable (default: $TSUBU_BIN, tsubu on the PATH, build/tsubu)")
+    parser.add_argument("--tsubu", help="the tsubu executable (default: $TSUBU_BINARY, tsubu on the PATH, build/tsubu)")
     args = parser.parse_args(argv)
     try:
         cases = run_sweep(args.sweep, jobs=args.jobs, dry_run=args.dry_run, tsubu=args.tsubu,

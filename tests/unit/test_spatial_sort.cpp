@@ -25,7 +25,12 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   for (int k = 0; k < 4; ++k) w.particles.force[k] = {0, 0, double(k)};
   w.contacts.assign({{0, 1, true, {{1, 2, 3}, {4, 0}}}, {1, 2, true, {{5, 6, 7}, {8, 0}}}},
                     {{0, 0, true, {{9, 9, 9}, {0, 0}}}}, 4);
+  const Vec3* positions = w.particles.position.data();
+  const std::int64_t* ids = w.particles.id.data();
   sort_spatially(w);
+  // In place: views into the arrays (the Python binding's NumPy arrays) stay valid.
+  EXPECT_EQ(w.particles.position.data(), positions);
+  EXPECT_EQ(w.particles.id.data(), ids);
 
   const Particles& p = w.particles;
   // Morton order of the cells: (0.1,0.1,0.1) < (0.9,0.1,0.1) < (0.1,0.9,0.1) < (0.9,0.9,0.9).

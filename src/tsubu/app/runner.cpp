@@ -17,6 +17,7 @@
 #include "tsubu/analysis/monitor.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/app/progress.hpp"
+#include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
@@ -236,53 +237,22 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series.flush();
     if (track.is_open()) track.flush();
     Checkpoint c;
-    c.engine_version = kVersion;
+    store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
     c.run_id = run_id;
-    c.scenario_path = sc.file;
-    c.scenario_text = sc.text;
-    c.overrides = sc.overrides;
-    c.scenario_hash = sc.hash;
-    c.step = world.step;
-    c.time = world.time;
-    c.dt = world.dt;
-    c.evaluations = forces.evaluations();
-    c.rebuilds = forces.rebuilds();
-    if (const BlockHermite* b = sim.block()) {
-      c.block.present = true;
-      c.block.state = b->state();
-      c.block.list_positions = b->list_positions();
-      c.block.list_reach = b->list_reach();
-      c.block.lists_stale = b->lists_stale();
-      c.block.stats = b->stats();
-    }
-    if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frames.count();
     c.output.pvd = frames.frames();
     c.output.series_bytes = fs::file_size(series_path);
     c.output.track_bytes = track.is_open() ? fs::file_size(track_path) : 0;
-    // The particles and contact lists are lent to the checkpoint, not copied (a copy of a
-    // large run's state would double its peak memory), and given back whatever happens.
-    auto lend = [&] {
-      std::swap(c.particles, world.particles);
-      std::swap(c.pair_contacts, world.contacts.pairs());
-      std::swap(c.wall_contacts, world.contacts.walls());
-    };
-    lend();
-    struct GiveBack {
-      decltype(lend)& back;
-      ~GiveBack() { back(); }
-    } give_back{lend};
-    c.wall_points.clear();
-    c.wall_velocities.clear();
-    for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
     try {
-      sync_file(series_path);
-      if (track.is_open()) sync_file(track_path);
-      for (const auto& f : frames.unsynced()) sync_file(f);
-      frames.mark_synced();
-      write_checkpoint(ckpt_dir, c);
+      with_state_lent(sim, c, [&] {
+        sync_file(series_path);
+        if (track.is_open()) sync_file(track_path);
+        for (const auto& f : frames.unsynced()) sync_file(f);
+        frames.mark_synced();
+        write_checkpoint(ckpt_dir, c);
+      });
       checkpoint_step = world.step;
     } catch (const std::exception& e) {
       // A run is worth more than its checkpoint: say so and carry on.
@@ -446,29 +416,8 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
 RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets) {
   namespace fs = std::filesystem;
   const OutputDir owner = OutputDir::claim_existing(out_dir);
-  const fs::path dir = fs::path(out_dir) / "checkpoint";
-  const auto files = list_checkpoints(dir);
-  if (files.empty())
-    throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume" +
-                             (fs::exists(dir) ? ""
-                                              : "; a run writes checkpoints only when [output] checkpoint_every_steps or "
-                                                "checkpoint_every_seconds is above 0"));
-  Checkpoint c;
   fs::path used;
-  for (const auto& f : files) {
-    try {
-      c = read_checkpoint(f);
-      used = f;
-      break;
-    } catch (const CheckpointError& e) {
-      // Kept for inspection, out of the way of the next checkpoints.
-      std::error_code ec;
-      fs::rename(f, f.string() + ".damaged", ec);
-      std::fprintf(stderr, "tsubu: checkpoint %s is unusable (%s); renamed to *.damaged, trying the previous one\n",
-                   f.string().c_str(), e.what());
-    }
-  }
-  if (used.empty()) throw std::runtime_error("no valid checkpoint in " + dir.string() + ": cannot resume");
+  Checkpoint c = read_newest_checkpoint(fs::path(out_dir) / "checkpoint", used);
   if (c.run_id != owner.run_id())
     throw std::runtime_error(used.string() + " belongs to run " + (c.run_id.empty() ? "?" : c.run_id) + ", but " + out_dir +
                              (owner.run_id().empty() ? " has no " + std::string(kRunMarker) + " naming its run"
@@ -477,27 +426,11 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   if (c.engine_version != kVersion)
     std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
-  const Scenario stored = load_scenario_text(c.scenario_text, c.scenario_path, c.overrides, false);
-  if (stored.hash != c.scenario_hash || stored.dt != c.dt)
-    throw std::runtime_error(used.string() + " does not match the scenario it stores (hash or dt differ)");
+  const Scenario stored = scenario_of(c, used);
   const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
-  Simulation sim(world_of_checkpoint(sc, c, used), sc.integrator, sc.block_steps);
-  // Fixed steps: lists rebuilt from the stored contacts at the next step; forces are NOT
-  // recomputed. Block steps: the lists as they were, from the stored build positions.
-  if (sim.block()) {
-    if (!c.block.present || c.block.state.size() != sim.world().particles.size())
-      throw std::runtime_error(used.string() + ": a block-step run's checkpoint without a complete block-step state");
-    sim.block()->resume(sim.world(), sim.forces(), std::move(c.block.state), std::move(c.block.list_positions),
-                        std::move(c.block.list_reach), c.block.lists_stale, c.block.stats);
-  } else if (c.block.present) {
-    throw std::runtime_error(used.string() + ": holds a block-step state, but the scenario is not a block-step run");
-  }
-  sim.forces().restore_counters(c.evaluations, c.rebuilds);
+  Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);
-  c.particles = {};
-  c.pair_contacts.clear();
-  c.wall_contacts.clear();
   return execute(sc, sim, out_dir, owner.run_id(), threads, progress, &c);
 }
 

@@ -363,6 +363,11 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   return load;
 }
 
+bool ForceField::evaluated(const World& world) const {
+  return pair_results_.entry.size() >= world.contacts.pairs().size() &&
+         wall_results_.entry.size() >= world.contacts.walls().size();
+}
+
 double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall) const {
   const Particles& p = world.particles;
   if (is_wall) return wall_results_.entry[k].delta / (2.0 * p.radius[world.contacts.walls()[k].i]);

@@ -98,6 +98,9 @@ class ForceField {
   // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
   // N, from the last evaluation.
   double wall_load(const World& world, std::size_t wall) const;
+  // Whether the current lists have been evaluated (not yet after a resume from a checkpoint,
+  // until the next step): touching_contacts() is then complete.
+  bool evaluated(const World& world) const;
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
   // Resuming from a checkpoint: the counters continue; the lists are rebuilt on the next

@@ -594,6 +594,19 @@ void read_search(Section s, Scenario& sc) {
 
 }  // namespace
 
+AnalysisSpec load_analysis_text(const Scenario& sc, const std::string& text, const std::string& origin) {
+  toml::table table;
+  try {
+    table = toml::parse(text, origin);
+  } catch (const toml::parse_error& e) {
+    throw InputError(origin, static_cast<long>(e.source().begin.line), "", "not valid TOML: " + std::string(e.description()));
+  }
+  Scenario alone = sc;  // its own name space: the scenario's analyses do not clash with it
+  alone.analyses.clear();
+  read_analysis(Section(table, "", origin), alone);
+  return alone.analyses.front();
+}
+
 Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
   return load_scenario_text(read_text(path), path, overrides, true);
 }

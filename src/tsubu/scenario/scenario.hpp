@@ -117,4 +117,9 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
 Scenario load_scenario_text(const std::string& text, const std::string& path,
                             const std::vector<std::string>& overrides, bool particle_files = true);
 
+// One [[analyses]] entry given as TOML text (type = ..., name, z_range, ...), read and checked
+// as in a scenario file, with sc's box, seed and sources for its defaults; `origin` names the
+// text in messages. For drivers that ask for measurements on the current state (Python).
+AnalysisSpec load_analysis_text(const Scenario& sc, const std::string& text, const std::string& origin);
+
 }  // namespace tsubu

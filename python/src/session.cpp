@@ -1,0 +1,70 @@
+#include "session.hpp"
+
+#include <stdexcept>
+
+#include "tsubu/app/simulation_state.hpp"
+#include "tsubu/core/error.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu::python {
+
+Session::Session(Scenario scenario, Simulation sim) : scenario_(std::move(scenario)), sim_(std::move(sim)) {}
+
+Session::Session(Scenario scenario)
+    : scenario_(std::move(scenario)), sim_(build_world(scenario_), scenario_.integrator, scenario_.block_steps) {
+  if (const ParticleSource* src = inflow_source(scenario_))
+    inflow_.emplace(scenario_, *src, static_cast<std::int64_t>(sim_.world().particles.size()));
+  sim_.start();
+  if (inflow_) inflow_->admit(sim_);
+}
+
+Session Session::resume(const std::filesystem::path& file_or_dir) {
+  namespace fs = std::filesystem;
+  fs::path used = file_or_dir;
+  Checkpoint c;
+  if (fs::is_directory(file_or_dir)) {
+    const fs::path run_folder = file_or_dir / "checkpoint";
+    c = read_newest_checkpoint(fs::is_directory(run_folder) ? run_folder : file_or_dir, used);
+  } else {
+    c = read_checkpoint(file_or_dir);
+  }
+  Scenario sc = scenario_of(c, used);
+  const ParticleSource* src = inflow_source(sc);
+  if (src && !c.inflow.present) throw std::runtime_error(used.string() + ": lacks the state of the scenario's inflow");
+  Session s(sc, restore_simulation(sc, c, used));
+  if (src) {
+    s.inflow_.emplace(s.scenario_, *inflow_source(s.scenario_), c.inflow.first_id);
+    s.inflow_->restore(c.inflow.state);
+  }
+  return s;
+}
+
+void Session::advance_to_step(std::int64_t target, const std::function<bool()>& go_on) {
+  if (!failure_.empty())
+    throw std::runtime_error("the run failed and cannot go on (" + failure_ + "); resume it from a checkpoint");
+  if (target < world().step)
+    throw std::invalid_argument("the run is at step " + std::to_string(world().step) + "; it cannot go back to step " +
+                                std::to_string(target));
+  try {
+    while (world().step < target) {
+      sim_.step();
+      if (inflow_) inflow_->admit(sim_);
+      if (!go_on()) return;
+    }
+  } catch (const NumericalError& e) {
+    failure_ = e.what();
+    throw;
+  }
+}
+
+bool Session::contacts_evaluated() const {
+  return sim_.forces().evaluated(world());
+}
+
+void Session::checkpoint(const std::filesystem::path& file) {
+  Checkpoint c;
+  store_simulation(scenario_, sim_, inflow_ ? &*inflow_ : nullptr, c);
+  with_state_lent(sim_, c, [&] { write_file_atomically(file, encode_checkpoint(c)); });
+}
+
+}  // namespace tsubu::python

@@ -1,0 +1,98 @@
+#include "tsubu/app/simulation_state.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "tsubu/source/build_world.hpp"
+#include "tsubu/version.hpp"
+
+namespace tsubu {
+
+void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c) {
+  c.engine_version = kVersion;
+  c.scenario_path = sc.file;
+  c.scenario_text = sc.text;
+  c.overrides = sc.overrides;
+  c.scenario_hash = sc.hash;
+  const World& world = sim.world();
+  c.step = world.step;
+  c.time = world.time;
+  c.dt = world.dt;
+  c.evaluations = sim.forces().evaluations();
+  c.rebuilds = sim.forces().rebuilds();
+  if (const BlockHermite* b = sim.block()) {
+    c.block.present = true;
+    c.block.state = b->state();
+    c.block.list_positions = b->list_positions();
+    c.block.list_reach = b->list_reach();
+    c.block.lists_stale = b->lists_stale();
+    c.block.stats = b->stats();
+  }
+  c.wall_points.clear();
+  c.wall_velocities.clear();
+  for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
+  if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
+}
+
+void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>& write) {
+  World& world = sim.world();
+  auto lend = [&] {
+    std::swap(c.particles, world.particles);
+    std::swap(c.pair_contacts, world.contacts.pairs());
+    std::swap(c.wall_contacts, world.contacts.walls());
+  };
+  lend();
+  struct GiveBack {
+    decltype(lend)& back;
+    ~GiveBack() { back(); }
+  } give_back{lend};
+  write();
+}
+
+Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used) {
+  namespace fs = std::filesystem;
+  const auto files = list_checkpoints(dir);
+  if (files.empty())
+    throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume" +
+                             (fs::exists(dir) ? ""
+                                              : "; a run writes checkpoints only when [output] checkpoint_every_steps or "
+                                                "checkpoint_every_seconds is above 0"));
+  for (const auto& f : files) {
+    try {
+      Checkpoint c = read_checkpoint(f);
+      used = f;
+      return c;
+    } catch (const CheckpointError& e) {
+      // Kept for inspection, out of the way of the next checkpoints.
+      std::error_code ec;
+      fs::rename(f, f.string() + ".damaged", ec);
+      std::fprintf(stderr, "tsubu: checkpoint %s is unusable (%s); renamed to *.damaged, trying the previous one\n",
+                   f.string().c_str(), e.what());
+    }
+  }
+  throw std::runtime_error("no valid checkpoint in " + dir.string() + ": cannot resume");
+}
+
+Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used) {
+  Scenario sc = load_scenario_text(c.scenario_text, c.scenario_path, c.overrides, false);
+  if (sc.hash != c.scenario_hash || sc.dt != c.dt)
+    throw std::runtime_error(used.string() + " does not match the scenario it stores (hash or dt differ)");
+  return sc;
+}
+
+Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::filesystem::path& used) {
+  Simulation sim(world_of_checkpoint(sc, c, used), sc.integrator, sc.block_steps);
+  if (sim.block()) {
+    if (!c.block.present || c.block.state.size() != sim.world().particles.size())
+      throw std::runtime_error(used.string() + ": a block-step run's checkpoint without a complete block-step state");
+    sim.block()->resume(sim.world(), sim.forces(), std::move(c.block.state), std::move(c.block.list_positions),
+                        std::move(c.block.list_reach), c.block.lists_stale, c.block.stats);
+  } else if (c.block.present) {
+    throw std::runtime_error(used.string() + ": holds a block-step state, but the scenario is not a block-step run");
+  }
+  sim.forces().restore_counters(c.evaluations, c.rebuilds);
+  return sim;
+}
+
+}  // namespace tsubu

@@ -1,0 +1,38 @@
+// A Simulation's state in a Checkpoint and back, for every driver: the command line's
+// checkpoints and resumes (app/runner.cpp) and the Python binding's (python/).
+#pragma once
+#include <filesystem>
+#include <functional>
+
+#include "tsubu/app/checkpoint.hpp"
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
+#include "tsubu/sim/simulation.hpp"
+
+namespace tsubu {
+
+// The run into c: this engine's version, the scenario (text, file, overrides, hash), sim's
+// clock, force counters, walls and block-step state, and the inflow's stream (if any). The
+// particles and contact lists are not copied (with_state_lent); the driver adds its own
+// (run id, outputs, energy watch).
+void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c);
+
+// Runs `write` with sim's particles and contact lists lent to c (moved in, not copied: a copy
+// of a large run's state would double its peak memory) and given back whatever happens.
+void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>& write);
+
+// The newest checkpoint of dir that reads back (step_*.tsbk, newest first); unusable ones are
+// renamed to *.damaged with a warning on stderr. Sets `used` to its file. Throws
+// std::runtime_error when there is none.
+Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used);
+
+// The scenario a checkpoint stores (with its overrides), checked against its hash and dt.
+Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used);
+
+// The Simulation of checkpoint c (file `used`, for messages) under scenario sc, taking c's
+// particles and contact lists. Fixed steps: the lists are rebuilt from the stored contacts
+// at the next step and the forces are those stored (not recomputed). Block steps: the lists
+// as they were, from the stored build positions.
+Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::filesystem::path& used);
+
+}  // namespace tsubu
