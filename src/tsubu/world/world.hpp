@@ -37,6 +37,9 @@ struct World {
   std::vector<Contact> pair_contacts;
   std::vector<Contact> wall_contacts;
   SearchSpec search;  // contact search method of the neighbour-list builds
+  // The particle ids each [[particles]] source gave, [first, last) in the order of the
+  // scenario (an inflow: from its first grain on); set by build_world.
+  std::vector<std::pair<std::int64_t, std::int64_t>> source_ids;
 };
 
 }  // namespace tsubu
