@@ -192,5 +192,41 @@ TEST(ProfilesRun, WritesOneCsvPerQuantityAndRunJson) {
   EXPECT_NE(printed.find("  solid_fraction = "), std::string::npos) << printed;
 }
 
+// An inflow whose first grain has not entered yet: its sizes are not numbers, written null;
+// the results are printed in the order of the scenario, with units.
+TEST(ProfilesRun, RunJsonWritesNullForASourceWithoutGrains) {
+  testing::TempDir dir;
+  const std::string scenario = std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/inflow_small.toml";
+  const std::filesystem::path out = dir.path() / "out", log = dir.path() / "log";
+  ASSERT_EQ(testing::run({"run", scenario, "--out", out.string(), "--set", "simulation.duration=0.0001"}, log), 0) << slurp(log);
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "run.json"));
+  EXPECT_EQ(j["sources"][0]["grains"], 0);
+  EXPECT_TRUE(j["sources"][0]["d50"].is_null()) << j["sources"];
+  const std::string printed = slurp(log);
+  const auto deposit = printed.find("  deposit_height = 0 m\n"), flux = printed.find("  inflow_F = "),
+             porosity = printed.find("  porosity = ");
+  ASSERT_NE(deposit, std::string::npos) << printed;
+  EXPECT_LT(deposit, porosity);
+  EXPECT_LT(porosity, flux);
+  EXPECT_NE(printed.find(" kg/s\n", flux), std::string::npos) << printed;
+}
+
+// A run cut short and resumed (rows after its checkpoint, here junk, cut away) ends with
+// the same profile files as an uninterrupted run.
+TEST(ProfilesRun, ResumeContinuesTheProfileFiles) {
+  testing::TempDir dir;
+  const std::string scenario = std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/profiles_small.toml";
+  const std::filesystem::path whole = dir.path() / "whole", cut = dir.path() / "cut", log = dir.path() / "log";
+  const std::string every = "output.checkpoint_every_steps=400";
+  ASSERT_EQ(testing::run({"run", scenario, "--out", whole.string(), "--set", every}, log), 0) << slurp(log);
+  ASSERT_EQ(testing::run({"run", scenario, "--out", cut.string(), "--set", every, "--set", "simulation.duration=0.006"}, log), 0)
+      << slurp(log);
+  std::ofstream(cut / "profiles" / "d50.csv", std::ios::app) << "0.008,junk after the checkpoint\n";
+  ASSERT_EQ(testing::run({"resume", cut.string(), "--set", "simulation.duration=0.01"}, log), 0) << slurp(log);
+  for (const auto& f : std::filesystem::directory_iterator(whole / "profiles"))
+    EXPECT_EQ(slurp(f.path()), slurp(cut / "profiles" / f.path().filename())) << f.path().filename();
+  EXPECT_EQ(slurp(whole / "series.csv"), slurp(cut / "series.csv"));
+}
+
 }  // namespace
 }  // namespace tsubu

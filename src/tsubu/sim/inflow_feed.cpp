@@ -33,7 +33,7 @@ std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) 
 std::string inflow_result_unit(const std::string& name) {
   static const std::map<std::string, std::string, std::less<>> units = {
       {"inflow_F", "kg/s"},  {"inflow_F_measured", "kg/s"}, {"inflow_grains_per_s", "1/s"},
-      {"inflow_t_f", "s"},   {"inflow_u_r", "m/s"},         {"inflow_z_c", "m"},
+      {"inflow_t_f", "s"},   {"inflow_u_r", "m/s"},         {"inflow_z_c", "m"}, {"inflow_Q", "kg"},
       {"inflow_mass_released", "kg"}};
   const auto it = units.find(name);
   return it == units.end() ? "" : it->second;
