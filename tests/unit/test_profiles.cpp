@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -182,6 +183,13 @@ TEST(ProfilesRun, WritesOneCsvPerQuantityAndRunJson) {
   }
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "run.json"));
   EXPECT_EQ(j["status"], "ok");
+  // tsubu check reports the same source sizes as run.json (no grain is lost or added).
+  ASSERT_EQ(testing::run({"check", scenario}, dir.path() / "check"), 0);
+  std::ostringstream expected;
+  expected << std::setprecision(6) << "  particles.0: " << j["particles"].get<long>() << " grains, D10 = "
+           << j["sources"][0]["d10"].get<double>() << " m, D50 = " << j["sources"][0]["d50"].get<double>() << " m, D90 = "
+           << j["sources"][0]["d90"].get<double>() << " m (by mass)\n";
+  EXPECT_NE(slurp(dir.path() / "check").find(expected.str()), std::string::npos) << slurp(dir.path() / "check") << expected.str();
   ASSERT_EQ(j["sources"].size(), 1u);
   const double grains = j["sources"][0]["grains"];
   EXPECT_EQ(grains, j["particles"].get<double>());

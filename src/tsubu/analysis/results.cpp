@@ -5,6 +5,7 @@
 namespace tsubu {
 
 std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w) {
+  if (a.kind == AnalysisSpec::Kind::profiles) return {};  // written to profiles/ (analysis/profiles.hpp)
   const Packing p = packing_of(w);
   const double grains = static_cast<double>(grains_in_slab(p.position, a.z_low, a.z_high));
   switch (a.kind) {
@@ -32,7 +33,7 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
       return {{a.name, kinetic}, {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0}};
     }
-    case AnalysisSpec::Kind::profiles: return {};  // written to profiles/ (analysis/profiles.hpp)
+    case AnalysisSpec::Kind::profiles: break;  // above
   }
   return {};
 }
