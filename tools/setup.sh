@@ -4,7 +4,7 @@
 # and tools/test.sh.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-packages=(cmake ninja-build g++ libgtest-dev libbenchmark-dev libtomlplusplus-dev libcli11-dev
+packages=(cmake ninja-build g++ libgtest-dev libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
           python3-vtk9 python3-matplotlib python3-numpy pybind11-dev python3-dev python3-pytest)
 sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
 missing=()

@@ -42,9 +42,10 @@ def test_energies_are_the_series_columns(settled):
 def test_analyses_on_the_current_state(settled):
     sim = settled
     ours = sim.analyses()
-    assert set(ours) == {"solid_fraction", "coordination", "coordination_no_rattlers", "coordination_no_rattlers_4",
-                         "coordination_grains"}
-    assert sim.analyze("solid_fraction", z_range=[0, 0.002]) == {"solid_fraction": ours["solid_fraction"]}
+    assert set(ours) == {"solid_fraction", "solid_fraction_grains", "coordination", "coordination_no_rattlers",
+                         "coordination_no_rattlers_4", "coordination_grains"}
+    assert sim.analyze("solid_fraction", z_range=[0, 0.002]) == {
+        "solid_fraction": ours["solid_fraction"], "solid_fraction_grains": ours["solid_fraction_grains"]}
     # The solid fraction by hand: sphere caps between z = 0 and 0.002 over the box's base.
     z, r = sim.positions[:, 2], sim.radii
     lo, hi = np.maximum(0 - z, -r), np.minimum(0.002 - z, r)

@@ -5,10 +5,11 @@
 namespace tsubu {
 
 std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w) {
+  if (a.kind == AnalysisSpec::Kind::profiles) return {};  // written to profiles/ (analysis/profiles.hpp)
   const Packing p = packing_of(w);
   const double grains = static_cast<double>(grains_in_slab(p.position, a.z_low, a.z_high));
   switch (a.kind) {
-    case AnalysisSpec::Kind::solid_fraction: return {{a.name, solid_fraction(p, a.z_low, a.z_high)}};
+    case AnalysisSpec::Kind::solid_fraction: return {{a.name, solid_fraction(p, a.z_low, a.z_high)}, {a.name + "_grains", grains}};
     case AnalysisSpec::Kind::coordination: {
       const Coordination c = coordination_numbers(p.position, pair_contact_counts(w), a.z_low, a.z_high);
       return {{a.name, c.all},
@@ -32,6 +33,7 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
       return {{a.name, kinetic}, {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0}};
     }
+    case AnalysisSpec::Kind::profiles: break;  // above
   }
   return {};
 }
@@ -40,6 +42,18 @@ std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
   std::vector<std::string> names;
   for (auto& [name, value] : analysis_results(a, World{})) names.push_back(std::move(name));  // no grains: cheap
   return names;
+}
+
+std::vector<std::string> analysis_result_units(const AnalysisSpec& a) {
+  std::vector<std::string> units;
+  for (const std::string& name : analysis_result_names(a)) {
+    const bool count = name.ends_with("_grains") || name.ends_with("_points");
+    units.push_back(count                                            ? ""
+                    : a.kind == AnalysisSpec::Kind::kinetic_energy ? "J"
+                    : a.kind == AnalysisSpec::Kind::deposit_height ? "m"
+                                                                   : "");
+  }
+  return units;
 }
 
 }  // namespace tsubu

@@ -68,6 +68,23 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
   for (const std::string& w : ts.warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
 }
 
+// The results in the order of the scenario, with their units.
+void print_results(const tsubu::RunSummary& s) {
+  for (std::size_t k = 0; k < s.result_order.size(); ++k)
+    std::printf("  %s = %.6g%s%s\n", s.result_order[k].c_str(), s.results.at(s.result_order[k]),
+                s.result_units[k].empty() ? "" : " ", s.result_units[k].c_str());
+}
+
+// Grains and sizes by mass of each [[particles]] source (an inflow: none before the run).
+void print_sources(const std::vector<tsubu::SourceSizes>& sources) {
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const tsubu::SourceSizes& g = sources[k];
+    std::printf("  particles.%zu: %ld grains", k, g.grains);
+    if (g.grains > 0) std::printf(", D10 = %.6g m, D50 = %.6g m, D90 = %.6g m (by mass)", g.sizes.d10, g.sizes.d50, g.sizes.d90);
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,7 +148,7 @@ int main(int argc, char** argv) {
       const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true, overrides);
       std::printf("resumed: %lld steps of %zu particles; output in %s\n", static_cast<long long>(s.steps), s.particles,
                   resume_dir.c_str());
-      for (const auto& [k, v] : s.results) std::printf("  %s = %.6g\n", k.c_str(), v);
+      print_results(s);
       return 0;
     }
     const tsubu::Scenario sc = tsubu::load_scenario(scenario_path, overrides);
@@ -139,6 +156,7 @@ int main(int argc, char** argv) {
       tsubu::World w = tsubu::build_world(sc);
       std::printf("%s: ok (%zu particles, %zu walls, %zu materials)\n", scenario_path.c_str(), w.particles.size(),
                   w.walls.size(), w.materials.size());
+      print_sources(tsubu::source_sizes(w));
       if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
         for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
       print_time_scales(sc, std::move(w), threads);
@@ -151,7 +169,7 @@ int main(int argc, char** argv) {
                 static_cast<long long>(s.steps), s.particles, s.wall_seconds,
                 s.particle_steps_per_second(),
                 out_dir.c_str());
-    for (const auto& [k, v] : s.results) std::printf("  %s = %.6g\n", k.c_str(), v);
+    print_results(s);
     return 0;
   } catch (const tsubu::InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());

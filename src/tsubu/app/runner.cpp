@@ -7,14 +7,21 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <optional>
 #include <sstream>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "tsubu/analysis/energy_watch.hpp"
+#include "tsubu/analysis/grain_sizes.hpp"
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/analysis/monitor.hpp"
+#include "tsubu/analysis/profiles.hpp"
+#include "tsubu/analysis/results.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/simulation_state.hpp"
@@ -39,50 +46,69 @@ std::int64_t every(double interval, double dt) {
   return std::max<std::int64_t>(1, std::llround(std::min(interval / dt, 0x1p62)));
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
-    else out += c;
-  }
-  return out;
+// A result as run.json has always written it: whole numbers (counts) without a decimal
+// point, other numbers to the last bit.
+nlohmann::ordered_json result_value(double v) {
+  if (std::isfinite(v) && v == std::trunc(v) && std::abs(v) < 0x1p53) return static_cast<std::int64_t>(v);
+  return v;
 }
 
-// Written atomically: run.json is the old or the new one, never empty or cut short.
+// Written atomically: run.json is the old or the new one, never empty or cut short. A
+// JSON library escapes the strings and writes non-finite numbers (the D50 of a source that
+// gave no grain) as null.
 void write_run_json(const std::string& path, const std::string& run_id, const Scenario& sc, int threads,
                     const RunSummary& s, const std::string& status, const std::string& message) {
-  std::ostringstream f;
-  f << std::setprecision(17);
-  f << "{\n  \"engine\": \"tsubu\",\n  \"version\": \"" << kVersion << "\",\n  \"run_id\": \"" << run_id
-    << "\",\n  \"scenario\": \"" << json_escape(sc.file)
-    << "\",\n  \"name\": \"" << json_escape(sc.name) << "\",\n  \"scenario_hash\": \"" << std::hex << sc.hash << std::dec
-    << "\",\n  \"status\": \"" << status << "\",\n  \"message\": \"" << json_escape(message)
-    << (s.stop_reason.empty() ? "" : "\",\n  \"stop_reason\": \"" + json_escape(s.stop_reason)) << "\",\n  \"threads\": "
-    << threads << ",\n  \"dt\": " << sc.dt << ",\n  \"steps\": " << s.steps << ",\n  \"particles\": " << s.particles
-    << ",\n  \"integrator\": \"" << integrator_name(sc.integrator) << "\",\n  \"particle_force_evaluations\": " << s.particle_force_evaluations
-    << ",\n  \"contact_evaluations\": " << s.contact_evaluations << ",\n  \"list_builds\": " << s.list_builds << ",\n  \"wall_time_s\": " << s.wall_seconds
-    << ",\n  \"loop_time_s\": " << s.loop_seconds << ",\n  \"particle_steps_per_second\": " << s.particle_steps_per_second() << ",\n  \"domain\": {\"lower\": [" << sc.domain.lower.x << ", "
-    << sc.domain.lower.y << ", " << sc.domain.lower.z << "], \"upper\": [" << sc.domain.upper.x << ", " << sc.domain.upper.y
-    << ", " << sc.domain.upper.z << "]},\n";
+  nlohmann::ordered_json j;
+  j["engine"] = "tsubu";
+  j["version"] = kVersion;
+  j["run_id"] = run_id;
+  j["scenario"] = sc.file;
+  j["name"] = sc.name;
+  std::ostringstream hash;
+  hash << std::hex << sc.hash;
+  j["scenario_hash"] = hash.str();
+  j["status"] = status;
+  j["message"] = message;
+  if (!s.stop_reason.empty()) j["stop_reason"] = s.stop_reason;
+  j["threads"] = threads;
+  j["dt"] = sc.dt;
+  j["steps"] = s.steps;
+  j["particles"] = s.particles;
+  j["integrator"] = integrator_name(sc.integrator);
+  j["particle_force_evaluations"] = s.particle_force_evaluations;
+  j["contact_evaluations"] = s.contact_evaluations;
+  j["list_builds"] = s.list_builds;
+  j["wall_time_s"] = s.wall_seconds;
+  j["loop_time_s"] = s.loop_seconds;
+  j["particle_steps_per_second"] = s.particle_steps_per_second();
+  j["domain"] = {{"lower", {sc.domain.lower.x, sc.domain.lower.y, sc.domain.lower.z}},
+                 {"upper", {sc.domain.upper.x, sc.domain.upper.y, sc.domain.upper.z}}};
   if (s.block_steps) {
     const BlockStepStats& b = *s.block_steps;
     const double total = static_cast<double>(s.particle_force_evaluations);
-    f << "  \"block_steps\": {\"levels\": " << sc.block_steps.levels << ", \"block_times\": " << b.block_times
-      << ", \"wakes\": " << b.wakes << ", \"evaluation_share_per_level\": [";
-    for (std::size_t k = 0; k < b.evaluations.size(); ++k)
-      f << (k ? ", " : "") << (total > 0 ? static_cast<double>(b.evaluations[k]) / total : 0.0);
-    f << "]},\n";
+    std::vector<double> share;
+    for (std::uint64_t n : b.evaluations) share.push_back(total > 0 ? static_cast<double>(n) / total : 0.0);
+    j["block_steps"] = {{"levels", sc.block_steps.levels},
+                        {"block_times", b.block_times},
+                        {"wakes", b.wakes},
+                        {"evaluation_share_per_level", share}};
   }
-  f << "  \"results\": {";
-  const char* sep = "\n";
-  for (const auto& [k, v] : s.results) {
-    f << sep << "    \"" << json_escape(k) << "\": " << std::setprecision(17) << v;
-    sep = ",\n";
+  // Before "results": a resumed run, which no longer knows its sources' ids, leaves it out.
+  if (!s.sources.empty()) {
+    j["sources"] = nlohmann::ordered_json::array();
+    for (const SourceSizes& g : s.sources)
+      j["sources"].push_back({{"grains", g.grains}, {"d10", g.sizes.d10}, {"d50", g.sizes.d50}, {"d90", g.sizes.d90}});
   }
-  f << (s.results.empty() ? "}" : "\n  }") << "\n}\n";
-  write_file_atomically(path, f.str());
+  j["results"] = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : s.results) j["results"][name] = result_value(value);
+  write_file_atomically(path, j.dump(2) + "\n");
+}
+
+// The data rows of a CSV file: its lines after the header.
+std::size_t data_rows(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto lines = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
+  return lines > 0 ? static_cast<std::size_t>(lines - 1) : 0;
 }
 
 }  // namespace
@@ -168,6 +194,11 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series << '\n';
   }
   series << std::setprecision(12);
+  // type = "profiles": a row in each of its files with every series.csv row.
+  std::optional<ProfileWriter> profiles;
+  for (const AnalysisSpec& a : sc.analyses)
+    if (a.kind == AnalysisSpec::Kind::profiles)
+      profiles.emplace(a, fs::path(out_dir) / "profiles", from ? std::optional(data_rows(series_path)) : std::nullopt);
   FrameSeries frames(out_dir, sc.output.contacts, !world.walls.empty());
   if (from) frames.restore(from->output.pvd);
   // Index of particle `id` now (spatial sorting moves particles between indices).
@@ -212,6 +243,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
     for (double v : monitor.evaluate(world)) series << ',' << v;
     series << '\n';
+    if (profiles) profiles->write(world);
     stop_reason = monitor.stop_reason();
   };
   auto write_frame = [&] { frames.write(world, forces); };
@@ -236,6 +268,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   auto save_checkpoint = [&] {
     series.flush();
     if (track.is_open()) track.flush();
+    if (profiles) profiles->flush();
     Checkpoint c;
     store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
     c.run_id = run_id;
@@ -249,6 +282,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       with_state_lent(sim, c, [&] {
         sync_file(series_path);
         if (track.is_open()) sync_file(track_path);
+        if (profiles)
+          for (const fs::path& f : profiles->paths()) sync_file(f);
         for (const auto& f : frames.unsynced()) sync_file(f);
         frames.mark_synced();
         write_checkpoint(ckpt_dir, c);
@@ -334,10 +369,12 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
     series.close();
     track.close();
+    if (profiles) profiles->close();
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();
     series.flush();
+    if (profiles) profiles->flush();
     write_frame();
     const std::string msg = e.what() + kept_checkpoint();
     write_run_json(json, run_id, sc, threads, summary, "failed", msg);
@@ -354,8 +391,16 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   finish_summary();
   const std::vector<double>& values = monitor.evaluate(world);
   for (std::size_t k = 0; k < values.size(); ++k) summary.results[monitor.names()[k]] = values[k];
+  for (const AnalysisSpec& a : sc.analyses)
+    for (const std::string& unit : analysis_result_units(a)) summary.result_units.push_back(unit);
+  summary.result_order = monitor.names();
   if (inflow)
-    for (const auto& [name, value] : inflow->results(world)) summary.results[name] = value;
+    for (const auto& [name, value] : inflow->results(world)) {
+      summary.results[name] = value;
+      summary.result_order.push_back(name);
+      summary.result_units.push_back(inflow_result_unit(name));
+    }
+  summary.sources = source_sizes(world);
   summary.stop_reason = stop_reason.empty() ? "duration" : stop_reason;
   write_run_json(json, run_id, sc, threads, summary, "ok", "");
   return summary;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "tsubu/analysis/grain_sizes.hpp"
 #include "tsubu/scenario/scenario.hpp"
 
 namespace tsubu {
@@ -26,6 +27,9 @@ struct RunSummary {
     return loop_seconds > 0 ? static_cast<double>(particles) * static_cast<double>(loop_steps) / loop_seconds : 0.0;
   }
   std::map<std::string, double> results;
+  std::vector<std::string> result_order;  // the results in the order of the scenario (analyses, then inflow)
+  std::vector<std::string> result_units;  // of result_order's results ("" for fractions and counts)
+  std::vector<SourceSizes> sources;       // per [[particles]] source: grains and D10/D50/D90 (m) at the end
   // Why a completed run ended: "duration", or the [[stop]] condition met (run.json "stop_reason").
   std::string stop_reason;
 };

@@ -313,10 +313,41 @@ void read_wall(Section s, Scenario& sc) {
   sc.walls.push_back(w);
 }
 
-SizeDistribution read_distribution(Section s) {
+// A sieve curve as sediment labs report it: sizes d (m) and the percent of the mass finer
+// than each. Sizes that look like millimetres are refused: no sieve may reach half the
+// box's smallest side, where no grain of a real sample would fit the box.
+void read_sieve_curve(Section& s, SizeDistribution& d, const Domain& box) {
+  d.kind = SizeDistribution::Kind::table;
+  d.sieve = s.reals("d");
+  std::vector<double> percent = s.reals("percent_finer_by_mass");
+  if (d.sieve.size() < 2) s.fail("d", "give at least two sieve sizes (m), from the finest to the coarsest");
+  if (percent.size() != d.sieve.size())
+    s.fail("percent_finer_by_mass", "must have one value per entry of d (" + std::to_string(d.sieve.size()) + "), got " +
+                                        std::to_string(percent.size()));
+  for (std::size_t k = 0; k < d.sieve.size(); ++k) {
+    if (!(d.sieve[k] > 0)) s.fail("d", "sieve sizes must be > 0 (m)" + got(d.sieve[k]));
+    if (k > 0 && !(d.sieve[k] > d.sieve[k - 1])) s.fail("d", "sieve sizes must increase strictly" + got(d.sieve[k]));
+    if (k > 0 && !(percent[k] >= percent[k - 1]))
+      s.fail("percent_finer_by_mass", "must not decrease: the mass finer than a larger sieve is at least as large" + got(percent[k]));
+  }
+  if (percent.front() != 0 || percent.back() != 100)
+    s.fail("percent_finer_by_mass", "must run from 0 (nothing finer than the first size) to 100 (all finer than the last), got " +
+                                        num(percent.front()) + " to " + num(percent.back()));
+  double side = box.length(0);
+  for (int k = 1; k < 3; ++k) side = std::min(side, box.length(k));
+  if (d.sieve.back() >= 0.5 * side)
+    s.fail("d", "did you mean metres? d = " + num(d.sieve.back()) + " looks like millimetres: it is at least half the box's smallest side (" +
+                    num(side) + " m); sizes are in metres (" + num(d.sieve.back()) + " mm = " + num(1e-3 * d.sieve.back()) + ")");
+  for (double p : percent) d.finer.push_back(p / 100);
+  d.weigh_table();
+}
+
+SizeDistribution read_distribution(Section s, const Domain& box) {
   SizeDistribution d;
-  const std::string type = s.choice("type", {"single", "uniform", "lognormal", "talbot"}, std::nullopt);
-  if (type == "single") {
+  const std::string type = s.choice("type", {"single", "uniform", "lognormal", "talbot", "table"}, std::nullopt);
+  if (type == "table") {
+    read_sieve_curve(s, d, box);
+  } else if (type == "single") {
     d.kind = SizeDistribution::Kind::single;
     d.diameter = s.positive("diameter");
   } else if (type == "uniform" || type == "talbot") {
@@ -358,10 +389,10 @@ void read_region(Section& s, ParticleSource& src, const Domain& domain) {
   src.velocity = s.vec3("velocity", {});
 }
 
-SizeDistribution required_distribution(Section& s, const std::string& kind) {
+SizeDistribution required_distribution(Section& s, const std::string& kind, const Domain& box) {
   auto dist = s.table("distribution");
   if (!dist) s.fail("distribution", "is required for source = \"" + kind + "\", e.g. { type = \"single\", diameter = 0.002 }");
-  return read_distribution(*dist);
+  return read_distribution(*dist, box);
 }
 
 // The virtual column of the sedimentation experiment (spec/sedimentation.md section 2).
@@ -379,7 +410,7 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
   if (src.solid_fraction > 0.3)
     s.fail("solid_fraction", "the column's phi_0; its random placement slows near jamming (0.38 for one size): allowed (0, 0.3]" +
                                  got(src.solid_fraction));
-  src.sizes = required_distribution(s, "inflow");
+  src.sizes = required_distribution(s, "inflow", box);
   const double d_max = src.sizes.largest();
   src.entry_height = s.real("entry_height", box.lower.z + 2 * box.length(0));
   if (!(src.entry_height - 0.5 * d_max > box.lower.z && src.entry_height + 0.5 * d_max <= box.upper.z))
@@ -429,7 +460,7 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     src.solid_fraction = s.positive("solid_fraction");
     if (src.solid_fraction > 0.4)
       s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]" + got(src.solid_fraction));
-    src.sizes = required_distribution(s, kind);
+    src.sizes = required_distribution(s, kind, sc.domain);
   } else {
     read_inflow(s, src, sc);
   }
@@ -501,17 +532,69 @@ double largest_generated(const Scenario& sc) {
   return d;
 }
 
+// The smallest diameter the scenario's generated sources can hold (0 with CSV files only).
+double smallest_generated(const Scenario& sc) {
+  double d = 0;
+  for (const ParticleSource& src : sc.sources) {
+    const double here = src.kind == ParticleSource::Kind::lattice ? src.diameter
+                        : src.kind == ParticleSource::Kind::csv   ? 0.0
+                                                                  : src.sizes.smallest();
+    if (here > 0) d = d > 0 ? std::min(d, here) : here;
+  }
+  return d;
+}
+
+// type = "profiles": the slices (a count, or a thickness that divides z_range) and the size
+// classes (given edges, or three classes of equal width in ln d over the scenario's sizes).
+void read_profile_slices(Section& s, AnalysisSpec& a, const Scenario& sc) {
+  for (const auto& other : sc.analyses)
+    if (other.kind == AnalysisSpec::Kind::profiles)
+      s.fail("type", "a scenario has at most one \"profiles\" analysis (it writes the profiles/ folder): \"" + other.name +
+                         "\" is one already");
+  const double range = a.z_high - a.z_low;
+  if (s.has("slice") && s.has("slices")) s.fail("slice", "give either slice (a thickness, m) or slices (a count), not both");
+  if (s.has("slice")) {
+    const double slice = s.positive("slice");
+    const double count = std::round(range / slice);
+    if (count < 1 || count > 100000 || std::abs(count * slice - range) > 1e-9 * range)
+      s.fail("slice", "z_range (" + num(range) + " m) must be a whole number (1 to 100000) of slices of " + num(slice) +
+                          " m; or give slices, a count");
+    a.profile_slices = static_cast<int>(count);
+  } else {
+    const std::int64_t count = s.integer("slices", 20);
+    if (count < 1 || count > 100000) s.fail("slices", "allowed 1 to 100000, got " + std::to_string(count));
+    a.profile_slices = static_cast<int>(count);
+  }
+  if (s.has("class_edges")) {
+    a.class_edges = s.reals("class_edges");
+    if (a.class_edges.size() < 2) s.fail("class_edges", "give at least two diameters (m): the edges of one class or more");
+    for (std::size_t k = 0; k < a.class_edges.size(); ++k)
+      if (!(a.class_edges[k] > 0) || (k > 0 && !(a.class_edges[k] > a.class_edges[k - 1])))
+        s.fail("class_edges", "must be diameters > 0 (m), increasing strictly" + got(a.class_edges[k]));
+    return;
+  }
+  const double lo = smallest_generated(sc), hi = largest_generated(sc);
+  if (lo == 0) s.fail("class_edges", "is required when no source gives a size range (CSV files only): diameters (m), increasing");
+  if (lo == hi) {
+    a.class_edges = {lo, hi};  // one size: one class
+    return;
+  }
+  for (int k = 0; k <= 3; ++k) a.class_edges.push_back(lo * std::pow(hi / lo, k / 3.0));
+  a.class_edges.back() = hi;
+}
+
 void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
   using Kind = AnalysisSpec::Kind;
   const std::string type =
-      s.choice("type", {"solid_fraction", "coordination", "deposit_height", "porosity", "segregation", "kinetic_energy"},
+      s.choice("type", {"solid_fraction", "coordination", "deposit_height", "porosity", "segregation", "kinetic_energy", "profiles"},
                std::nullopt);
   a.kind = type == "solid_fraction" ? Kind::solid_fraction
            : type == "coordination" ? Kind::coordination
            : type == "deposit_height" ? Kind::deposit_height
            : type == "porosity"       ? Kind::porosity
            : type == "segregation"    ? Kind::segregation
+           : type == "profiles"       ? Kind::profiles
                                       : Kind::kinetic_energy;
   a.name = s.text("name", type);
   // The spec's measures take the box's x length as L and heights from domain.lower.z.
@@ -525,12 +608,18 @@ void read_analysis(Section s, Scenario& sc) {
     a.slices.threshold = s.real("threshold", 0.6);
     if (!(a.slices.threshold > 0 && a.slices.threshold < 1)) s.fail("threshold", "is a solid fraction: allowed (0, 1)" + got(a.slices.threshold));
   } else if (a.kind != Kind::kinetic_energy) {
-    const auto z = a.kind == Kind::porosity && !s.has("z_range") ? std::vector<double>{floor + 0.15 * L, floor + 0.35 * L}
-                                                                 : s.reals("z_range");
+    const auto z = s.has("z_range")             ? s.reals("z_range")
+                   : a.kind == Kind::porosity ? std::vector<double>{floor + 0.15 * L, floor + 0.35 * L}
+                   : a.kind == Kind::profiles ? std::vector<double>{floor, sc.domain.upper.z}
+                                              : s.reals("z_range");
     if (z.size() != 2 || !(z[1] > z[0])) s.fail("z_range", "must be [z_low, z_high] with z_high > z_low");
+    if (z[0] < sc.domain.lower.z || z[1] > sc.domain.upper.z)
+      s.fail("z_range", "[" + num(z[0]) + ", " + num(z[1]) + "] m reaches outside the domain: allowed within [" +
+                            num(sc.domain.lower.z) + ", " + num(sc.domain.upper.z) + "] (domain.lower.z, domain.upper.z)");
     a.z_low = z[0];
     a.z_high = z[1];
   }
+  if (a.kind == Kind::profiles) read_profile_slices(s, a, sc);
   if (a.kind == Kind::porosity) {
     a.points = static_cast<long>(s.integer("points", a.points));
     if (a.points < 1) s.fail("points", "must be >= 1 (65536 give a standard error below 0.002)" + got(static_cast<double>(a.points)));

@@ -61,7 +61,7 @@ struct OutputSpec {
 };
 
 struct AnalysisSpec {
-  enum class Kind { solid_fraction, coordination, deposit_height, porosity, segregation, kinetic_energy };
+  enum class Kind { solid_fraction, coordination, deposit_height, porosity, segregation, kinetic_energy, profiles };
   Kind kind = Kind::solid_fraction;
   std::string name;
   double z_low = 0, z_high = 0;  // m, the measured slab
@@ -69,6 +69,8 @@ struct AnalysisSpec {
   long points = 65536;           // porosity: Monte Carlo points
   std::uint64_t seed = 1;        // porosity: of the points
   double small_diameter = 0;     // segregation: grains below it are small, m
+  int profile_slices = 0;        // profiles: slices of equal thickness over [z_low, z_high]
+  std::vector<double> class_edges;  // profiles: size class i is class_edges[i] <= d < class_edges[i+1], m
 };
 
 // A [[stop]] condition: the run ends (status ok) at the first series.csv row where the

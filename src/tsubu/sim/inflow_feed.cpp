@@ -1,5 +1,7 @@
 #include "tsubu/sim/inflow_feed.hpp"
 
+#include <map>
+
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
@@ -26,6 +28,15 @@ std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) 
   for (auto& count : inflow_counts(stream_.state())) r.push_back(std::move(count));
   r.emplace_back("inflow_F_measured", w.time > 0 ? mass_entered(w) / w.time : 0.0);
   return r;
+}
+
+std::string inflow_result_unit(const std::string& name) {
+  static const std::map<std::string, std::string, std::less<>> units = {
+      {"inflow_F", "kg/s"},  {"inflow_F_measured", "kg/s"}, {"inflow_grains_per_s", "1/s"},
+      {"inflow_t_f", "s"},   {"inflow_u_r", "m/s"},         {"inflow_z_c", "m"}, {"inflow_Q", "kg"},
+      {"inflow_mass_released", "kg"}};
+  const auto it = units.find(name);
+  return it == units.end() ? "" : it->second;
 }
 
 }  // namespace tsubu

@@ -40,4 +40,7 @@ class InflowFeed {
   std::int64_t first_id_;
 };
 
+// The unit of one of InflowFeed::results ("kg/s", "m", ...; "" for numbers and counts).
+std::string inflow_result_unit(const std::string& name);
+
 }  // namespace tsubu

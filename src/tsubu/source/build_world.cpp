@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -142,6 +143,8 @@ World build_world(const Scenario& sc) {
   std::vector<Grain> grains;
   std::vector<double> tolerance;
   for (const auto& src : sc.sources) {
+    const auto first = static_cast<std::int64_t>(grains.size());
+    w.source_ids.emplace_back(first, first);
     if (src.kind == ParticleSource::Kind::inflow) continue;  // its grains arrive during the run
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
                            : src.kind == ParticleSource::Kind::file    ? read_state_grains(src, sc.materials.size())
@@ -172,7 +175,11 @@ World build_world(const Scenario& sc) {
       // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
       tolerance.push_back(from_file ? src.overlap_tolerance : 1e-9);
     }
+    w.source_ids.back().second = static_cast<std::int64_t>(grains.size());
   }
+  for (std::size_t k = 0; k < sc.sources.size(); ++k)  // the inflow's ids follow the built grains
+    if (sc.sources[k].kind == ParticleSource::Kind::inflow)
+      w.source_ids[k] = {static_cast<std::int64_t>(grains.size()), std::numeric_limits<std::int64_t>::max()};
   double d_max = 2 * std::accumulate(w.particles.radius.begin(), w.particles.radius.end(), 0.0,
                                      [](double a, double b) { return std::max(a, b); });
   for (const auto& src : sc.sources)

@@ -24,6 +24,15 @@ double mean_diameter_power(const SizeDistribution& s, double p) {
     case SizeDistribution::Kind::uniform: return power_integral(s.d_min, s.d_max, p) / (s.d_max - s.d_min);
     case SizeDistribution::Kind::talbot:
       return power_integral(s.d_min, s.d_max, s.exponent - 3 + p) / power_integral(s.d_min, s.d_max, s.exponent - 3);
+    case SizeDistribution::Kind::table: {  // number density ∝ c_k d^-3 per unit ln d in interval k
+      double moment = 0, count = 0;
+      for (std::size_t k = 0; k + 1 < s.sieve.size(); ++k) {
+        const double a = s.sieve[k], b = s.sieve[k + 1], c = (s.finer[k + 1] - s.finer[k]) / std::log(b / a);
+        moment += c * power_integral(a, b, p - 4);
+        count += c * power_integral(a, b, -4);
+      }
+      return moment / count;
+    }
     case SizeDistribution::Kind::lognormal: {
       const double inf = std::numeric_limits<double>::infinity();
       const double alpha = s.d_min > 0 ? std::log(s.d_min / s.median) / s.sigma : -inf;

@@ -27,6 +27,9 @@ struct World {
   double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
   ContactList contacts;  // neighbour lists with their histories (contact/contact_list.hpp)
   SearchSpec search;  // contact search method of the neighbour-list builds
+  // The particle ids each [[particles]] source gave, [first, last) in the order of the
+  // scenario (an inflow: from its first grain on); set by build_world.
+  std::vector<std::pair<std::int64_t, std::int64_t>> source_ids;
 };
 
 }  // namespace tsubu
