@@ -1,4 +1,4 @@
-// Chung & Ooi (2011) benchmark tests 1-3 (spec/validation.md section C), through the full
+// Chung & Ooi (2011) benchmark tests 1-3 (docs/validation/chung-ooi.md), through the full
 // engine: contact search, force field and velocity Verlet; then the same checks through the
 // block-step Hermite integrator (docs/integrators.md), with dt as its largest step.
 #include <gtest/gtest.h>

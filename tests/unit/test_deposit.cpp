@@ -101,7 +101,7 @@ TEST(Deposit, HeightBySlices) {
   const Grains g = simple_cubic(20, 6, 0.05);
   SliceRule rule{0, 0.1, 10, 0.5};
   EXPECT_NEAR(deposit_height(g.packing(), rule), 0.3, 1e-12);
-  rule.threshold = 0.6;  // the spec's threshold: never reached by a simple cubic packing
+  rule.threshold = 0.6;  // the paper's threshold: never reached by a simple cubic packing
   EXPECT_EQ(deposit_height(g.packing(), rule), 0.0);
 }
 

@@ -1,4 +1,4 @@
-// Model P (and F) in isolation and through the engine (spec/contact-models.md, model P:
+// Model P (and F) in isolation and through the engine (docs/engine.md, model P:
 // "properties the unit tests must show").
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 namespace tsubu {
 namespace {
 
-// The mode the spec assigns to a state (1 contact step, 2-3 Eq. 21, 4 Eq. 23 incl. our
+// The mode the model assigns to a state (1 contact step, 2-3 Eq. 21, 4 Eq. 23 incl. our
 // fall-back), for checking the sequence.
 int mode_of(const energy_contact::State& st) {
   if (st.s >= 1) return 1;

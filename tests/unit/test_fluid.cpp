@@ -1,4 +1,4 @@
-// Still-fluid forces (spec/sedimentation.md section 1): coefficients, Rubey's speed, and the
+// Still-fluid forces (docs/engine.md, "Fluid forces"): coefficients, Rubey's speed, and the
 // time derivatives of every force and torque against central finite differences.
 #include <gtest/gtest.h>
 
@@ -57,7 +57,7 @@ TEST(FluidCoefficients, EtaTableIsPiecewiseLinearAndHeld) {
 }
 
 TEST(FluidCoefficients, RubeySpeed) {
-  // 1 cm quartz in water: about 0.33 m/s (spec/sedimentation.md), by the formula written out.
+  // 1 cm quartz in water: about 0.33 m/s (docs/sedimentation.md), by the formula written out.
   const double g = 9.81, s1 = 1.65, d = 0.01;
   const double dstar = s1 * g * d * d * d / (kNu * kNu);
   const double expect = std::sqrt(s1 * g * d) * (std::sqrt(2.0 / 3 + 36 / dstar) - std::sqrt(36 / dstar));

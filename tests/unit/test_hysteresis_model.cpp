@@ -1,4 +1,4 @@
-// Model HH branch by branch with hand-computed values (spec/contact-models.md "Model HH"),
+// Model HH branch by branch with hand-computed values (docs/engine.md "Model HH"),
 // the scenario keys that select it, and moving walls.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Contact models in isolation, against their formulas (spec/contact-models.md) with values
+// Contact models in isolation, against their formulas (docs/engine.md) with values
 // computed by hand.
 #include <gtest/gtest.h>
 

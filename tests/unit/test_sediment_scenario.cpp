@@ -25,7 +25,7 @@ TEST(SedimentScenario, InflowSourceAndItsDefaults) {
   EXPECT_DOUBLE_EQ(src->sizes.d_min, 0.01 * std::exp(-2.0));  // spread = ln(d_max/d_min) = 2
   EXPECT_EQ(src->entry_height, 0.08);                          // z_c = 2 L
   EXPECT_EQ(src->fall_speed, rubey_speed(2650, 1000, 1e-6, 0.01, 9.81));
-  EXPECT_NEAR(src->fall_speed, 0.33, 0.005);  // the spec's Rubey speed of 1 cm quartz
+  EXPECT_NEAR(src->fall_speed, 0.33, 0.005);  // Rubey's speed of 1 cm quartz
   EXPECT_EQ(src->omega_star_rms, 0);
   EXPECT_EQ(build_world(sc).particles.size(), 0u) << "inflow grains arrive during the run";
   const InflowColumn c = inflow_column(sc, *src);

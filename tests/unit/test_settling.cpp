@@ -1,7 +1,7 @@
 // Single quartz spheres released from rest in still water, through the full engine (force
 // field with the fluid, velocity Verlet): the terminal speed, the transient with added mass
 // against an independent RK4 solution, and the Stokes-torque decay of a spin
-// (spec/sedimentation.md section 1).
+// (docs/engine.md, "Fluid forces").
 #include <gtest/gtest.h>
 #include <omp.h>
 

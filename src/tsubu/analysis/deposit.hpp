@@ -1,5 +1,5 @@
 // Measurements on a deposit of spheres, after the sedimentation experiment
-// (spec/sedimentation.md section 2; docs/sedimentation.md): deposit height, porosity by
+// (docs/sedimentation.md): deposit height, porosity by
 // Monte Carlo and by exact sphere-slab volumes, coordination with both rattler definitions,
 // and the share of small grains in a layer. Pure functions of positions, radii and contact
 // counts: the box's x-y cross-section is the measured area; grains are whole spheres (a
@@ -31,12 +31,12 @@ double solid_fraction(const Packing& p, double a, double b);
 // Grains with their centre in a < z < b.
 long grains_in_slab(std::span<const Vec3> position, double a, double b);
 
-// The spec's slice rule for the deposit height: slices of `slice` from `floor`; the deposit
+// The experiment's slice rule for the deposit height: slices of `slice` from `floor`; the deposit
 // has reached z_k = floor + k slice once the solid fraction of floor < z < z_k exceeds
 // `threshold`. Returns z_k - floor for the largest such k <= slices (0: none).
 struct SliceRule {
   double floor = 0;       // m
-  double slice = 0;       // m, 0.1 L in the spec
+  double slice = 0;       // m, 0.1 L in the experiment
   int slices = 10;        // up to floor + 10 slices = L
   double threshold = 0.6; // solid fraction
 };
@@ -64,7 +64,7 @@ struct Coordination {
 Coordination coordination_numbers(std::span<const Vec3> position, std::span<const int> pair_contacts, double a, double b);
 
 // Segregation Gamma: the share of grains with diameter below `small_diameter` (d_max/3 in
-// the spec) in the solid volume of a < z < b (exact slab volumes); 0 for a layer without
+// the experiment) in the solid volume of a < z < b (exact slab volumes); 0 for a layer without
 // solid.
 double small_grain_share(const Packing& p, double a, double b, double small_diameter);
 

@@ -1,4 +1,4 @@
-// Energy-conserving normal contact (Fujioka & Ushijima; spec/contact-models.md, models P and
+// Energy-conserving normal contact (Fujioka & Ushijima; docs/engine.md, models P and
 // F). Both exist only with the symplectic Euler scheme v <- v + F/m dt, x <- x + v dt, whose
 // future plane is d_{j+1} = d_j + u_{j+1}. Dimensionless along n, for step dt and
 // characteristic length d_c:
@@ -85,7 +85,7 @@ struct EnergyConserving {
   }
 };
 
-// Model F: the authors' 2005 model as reconstructed in the spec ("F (reconstructed)"). No
+// Model F: the authors' 2005 model as reconstructed in docs/engine.md ("F (reconstructed)"). No
 // correction of the contact step; mode 1 split by the line s = 1/e.
 struct EnergyConserving2005 {
   static constexpr const char* name = "energy_conserving_2005 (F, reconstructed)";

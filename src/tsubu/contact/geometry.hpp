@@ -1,4 +1,4 @@
-// What a contact model sees of one contact (spec/contact-models.md, "Notation").
+// What a contact model sees of one contact (docs/engine.md, "Notation").
 #pragma once
 #include "tsubu/core/dual.hpp"
 

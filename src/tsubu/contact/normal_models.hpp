@@ -1,4 +1,4 @@
-// Normal contact models (spec/contact-models.md). Each is a small value type holding the
+// Normal contact models (docs/engine.md). Each is a small value type holding the
 // material-pair constants; force() depends only on the contact geometry and its history.
 #pragma once
 #include <cmath>
@@ -83,7 +83,7 @@ struct HertzSediment {
 };
 
 // Model HH, Hooke/Hysteresis, step-for-step the model of LIGGGHTS 3.8 `hooke/hysteresis`
-// (spec/contact-models.md "Model HH"). A linear spring k_n on virgin loading; un- and
+// (docs/engine.md "Model HH"). A linear spring k_n on virgin loading; un- and
 // reloading along a stiffer line k2 that grows with the largest overlap h; an adhesive
 // branch -k_c delta below it. History: h ("deltaMax") in normal[0].
 //   k_n = 16/15 sqrt(R*) E* (15 m* v_c^2 / (16 sqrt(R*) E*))^{1/5}

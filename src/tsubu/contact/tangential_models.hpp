@@ -1,4 +1,4 @@
-// Tangential contact models (spec/contact-models.md, "Tangential models"). Each returns the
+// Tangential contact models (docs/engine.md, "Tangential models"). Each returns the
 // tangential force on particle i and updates the spring `xi` kept in the contact history.
 #pragma once
 #include <cmath>

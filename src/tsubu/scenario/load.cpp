@@ -395,7 +395,7 @@ SizeDistribution required_distribution(Section& s, const std::string& kind, cons
   return read_distribution(*dist, box);
 }
 
-// The virtual column of the sedimentation experiment (spec/sedimentation.md section 2).
+// The virtual column of the sedimentation experiment (docs/sedimentation.md).
 void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
   src.kind = ParticleSource::Kind::inflow;
   for (const ParticleSource& other : sc.sources)
@@ -597,7 +597,7 @@ void read_analysis(Section s, Scenario& sc) {
            : type == "profiles"       ? Kind::profiles
                                       : Kind::kinetic_energy;
   a.name = s.text("name", type);
-  // The spec's measures take the box's x length as L and heights from domain.lower.z.
+  // The experiment's measures take the box's x length as L and heights from domain.lower.z.
   const double L = sc.domain.length(0), floor = sc.domain.lower.z;
   if (a.kind == Kind::deposit_height) {
     a.slices.floor = s.real("floor", floor);

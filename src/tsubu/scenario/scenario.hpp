@@ -36,7 +36,7 @@ struct ParticleSource {
   double solid_fraction = 0;       // random; inflow: phi_0 of the virtual column
   SizeDistribution sizes;          // random, inflow
   Vec3 velocity;                   // lattice, random: initial velocity, m/s
-  // inflow (spec/sedimentation.md section 2): grains arrive during the run, none at the start
+  // inflow (docs/sedimentation.md): grains arrive during the run, none at the start
   double entry_height = 0;    // z_c, m
   double fall_speed = 0;      // u_r, m/s: as given, or Rubey's speed of the largest grain
   double mass_limit = 0;      // kg, 0: none

@@ -1,4 +1,4 @@
-// Multi-level grid (spec/hermite-multilevel.md section 3); see pair_search.hpp.
+// Multi-level grid (docs/engine.md, "Contact search"); see pair_search.hpp.
 #include <algorithm>
 #include <cmath>
 #include <limits>

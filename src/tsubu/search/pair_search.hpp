@@ -63,7 +63,7 @@ class CellGrid {
 };
 
 
-// Multi-level grid ("multi-size mesh", spec/hermite-multilevel.md section 3): with base
+// Multi-level grid ("multi-size mesh", docs/engine.md, "Contact search"): with base
 // length L = the domain's x length, level K = 1..M has nominal size l_K = 2^-(K-1+K0) L,
 // l_1 the smallest power-of-two fraction of L not below the largest diameter. A particle of
 // diameter d lives on level K with l_{K+1} < d <= l_K (the finest level whose cells are not

@@ -1,4 +1,4 @@
-// The inflow of the sedimentation experiment (spec/sedimentation.md section 2; paper section
+// The inflow of the sedimentation experiment (docs/sedimentation.md; paper section
 // 4.1, Eqs. 25 and 27; docs/sedimentation.md). A virtual column with the box's x-y extent as
 // its base stands on the entry plane z = z_c, filled without overlap to the solid fraction
 // phi_0 and falling at u_r; grain j at height z_0j enters at t_arr = (z_0j - z_c)/u_r, at z_c,

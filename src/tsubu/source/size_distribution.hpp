@@ -1,4 +1,4 @@
-// Grain-size distributions (spec/sedimentation.md section 2). `sample` draws one diameter
+// Grain-size distributions (docs/sedimentation.md). `sample` draws one diameter
 // by the inverse CDF of the number density.
 #pragma once
 #include <algorithm>

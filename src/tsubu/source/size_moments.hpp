@@ -1,5 +1,5 @@
 // Moments of the number distribution of a grain-size distribution, in closed form: the
-// mean of d^p over n(d) (spec/sedimentation.md section 2). They give the grains per second
+// mean of d^p over n(d) (docs/sedimentation.md). They give the grains per second
 // of a mass flux (mean grain volume) and check the samplers.
 #pragma once
 #include "tsubu/source/size_distribution.hpp"
