@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# The main job: build tsubu, settle ~2700 polydisperse grains (examples/settle-poly.toml),
-# write ParaView files and a picture of the bed.
+# The main job: build tsubu, rain ~1200 quartz grains of 3-10 mm into still water at a given
+# flux with block steps until the deposit is 0.35 L deep (examples/sedimentation/rain.toml,
+# about 3 minutes), and draw the deposit with its porosity and grading profiles.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 source "$root/tools/setup.sh"
-out="$root/out/settle-poly"
+out="$root/out/rain"
 # --overwrite: the demo replaces its previous run.
-"$root/build/tsubu" run "$root/examples/settle-poly.toml" --out "$out" --overwrite --threads "$(nproc)"
-/usr/bin/python3 "$root/tools/render_bed.py" "$out"
-echo "ParaView: open $out/frames/particles.pvd"
+"$root/build/tsubu" run "$root/examples/sedimentation/rain.toml" --out "$out" --overwrite --threads "$(nproc)"
+/usr/bin/python3 "$root/tools/render_deposit.py" "$out"
+echo "ParaView: open $out/frames/particles.pvd (and contacts.pvd, walls.pvd)"

@@ -171,6 +171,39 @@ TEST(BlockHermite, DashpotsAreCorrectedToTheCorrectedVelocities) {
   }
 }
 
+TEST(BlockHermite, AContactBetweenGrainsInTouchDoesNotTakeTheEventStep) {
+  // Two 0.5 mm grains resting on the floor in water, one sliding into the other: both touch
+  // the floor before their own contact begins, so its onset is no first touch from free
+  // flight and the contact rules (about 0.8 us here), not eta_s |a|/|j| (~35 ns with model
+  // H's dashpot), set the pair's step: level 6 (dt/64 = 156 ns) or coarser, and no
+  // evaluation happens on level 8 or finer.
+  ContactSpec spec = spec_of("hertz_sediment", "mindlin", 0.5, 0.5);
+  World w = make_world(kQuartz, spec, 1e-5, {0, 0, -9.81});
+  w.fluid.enabled = true, w.fluid.density = 1000, w.fluid.viscosity = 1e-6;
+  w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
+  w.particles.add(0, 0, 0.5e-3, 2650, {0, 0, 0.24999e-3}, {0.01, 0, 0});
+  w.particles.add(1, 0, 0.5e-3, 2650, {0.50002e-3, 0, 0.24999e-3}, {});
+  BlockStepRules rules;
+  rules.levels = 20;
+  Simulation sim(std::move(w), Integrator::block_hermite, rules);
+  sim.start();
+  int finest = 0, touching_steps = 0;
+  for (std::int64_t step = 1; step <= 20; ++step) {
+    sim.advance_to(step);
+    bool touched = false;
+    for (const Contact& c : sim.world().contacts.pairs()) touched = touched || c.touching;
+    if (!touched) continue;
+    ++touching_steps;
+    for (int k = 0; k < 2; ++k) finest = std::max(finest, int(sim.block()->state().level[k]));
+  }
+  ASSERT_GT(touching_steps, 0) << "the grains met";
+  EXPECT_LE(finest, 6);
+  const auto& per_level = sim.block()->stats().evaluations;
+  std::uint64_t fine = 0;
+  for (std::size_t k = 8; k < per_level.size(); ++k) fine += per_level[k];
+  EXPECT_EQ(fine, 0u) << "evaluations on level 8 (39 ns) or finer (18 with the event rule at this onset)";
+}
+
 TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
   // A grain falling through water far from a resting pair on the floor: the free grain
   // takes far longer steps than the pair in contact.
