@@ -297,7 +297,8 @@ TEST(Resume, AfterSigkillTheRunEndsBitIdentical_MovingWall) {
 // neighbour lists as they were built, survive the kill; contacts begin during the run.
 TEST(Resume, AfterSigkillTheRunEndsBitIdentical_BlockHermite) {
   TempDir dir;
-  expect_sigkill_resume_identical(dir.path(), kScenarios / "block_sediment.toml", {}, 600);
+  // 0.06 s (about 1.2 s of wall time, 600 steps): longer than the latest kill.
+  expect_sigkill_resume_identical(dir.path(), kScenarios / "block_sediment.toml", {"--set", "simulation.duration=0.06"}, 600);
   EXPECT_NE(slurp(dir.path() / "ref" / "run.json").find("\"block_steps\""), std::string::npos);
 }
 
