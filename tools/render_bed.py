@@ -104,18 +104,25 @@ def draw_slice(ax, centres, radii, diameters, lower, upper):
     return patches
 
 
+def figure_with_slice(figsize, width_ratios, centres, radii, diameters, lower, upper):
+    """A figure of two columns: the slice (a) with its colour bar in the first, whose divider
+    places profiles beside it, as tall as the slice; returns (fig, grid, ax_slice, divider)."""
+    fig = plt.figure(figsize=figsize, layout="constrained")
+    grid = fig.add_gridspec(1, 2, width_ratios=width_ratios)
+    ax_slice = fig.add_subplot(grid[0])
+    divider = make_axes_locatable(ax_slice)
+    patches = draw_slice(ax_slice, centres, radii, diameters, lower, upper)
+    colour_bar = fig.colorbar(patches, cax=divider.append_axes("right", size=0.15, pad=0.1))
+    colour_bar.ax.set_title("diameter\n(mm)", fontsize="small")
+    return fig, grid, ax_slice, divider
+
+
 def render(out_dir, png):
     time, centres, diameters = last_frame(out_dir)
     radii = 0.5 * diameters
     lower, upper, note = box(out_dir, centres, radii)
 
-    fig = plt.figure(figsize=(12, 6), layout="constrained")
-    grid = fig.add_gridspec(1, 2, width_ratios=[3, 2])
-    ax_slice = fig.add_subplot(grid[0])
-    divider = make_axes_locatable(ax_slice)  # keeps the colour bar and profile as tall as the slice
-    patches = draw_slice(ax_slice, centres, radii, diameters, lower, upper)
-    colour_bar = fig.colorbar(patches, cax=divider.append_axes("right", size=0.15, pad=0.1))
-    colour_bar.ax.set_title("diameter\n(mm)", fontsize="small")
+    fig, grid, ax_slice, divider = figure_with_slice((12, 6), [3, 2], centres, radii, diameters, lower, upper)
 
     ax_phi = divider.append_axes("right", size=2.2, pad=0.8, sharey=ax_slice)
     width = 0.25 * diameters.min() if len(diameters) else (upper[2] - lower[2]) / 100

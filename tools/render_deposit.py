@@ -22,10 +22,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from mpl_toolkits.axes_grid1 import make_axes_locatable  # noqa: E402
 
 from plot_profiles import read_profile  # noqa: E402
-from render_bed import MM, box, draw_slice, last_frame  # noqa: E402
+from render_bed import MM, box, figure_with_slice, last_frame  # noqa: E402
 
 
 def profile_at_end(out_dir, name):
@@ -42,13 +41,7 @@ def render(out_dir, png):
         summary = json.load(f)
     results = summary.get("results", {})
 
-    fig = plt.figure(figsize=(15, 6), layout="constrained")
-    grid = fig.add_gridspec(1, 2, width_ratios=[3, 1.4])
-    ax_slice = fig.add_subplot(grid[0])
-    divider = make_axes_locatable(ax_slice)  # the colour bar and the profiles as tall as the slice
-    patches = draw_slice(ax_slice, centres, radii, diameters, lower, upper)
-    colour_bar = fig.colorbar(patches, cax=divider.append_axes("right", size=0.15, pad=0.1))
-    colour_bar.ax.set_title("diameter\n(mm)", fontsize="small")
+    fig, grid, ax_slice, divider = figure_with_slice((15, 6), [3, 1.4], centres, radii, diameters, lower, upper)
 
     ax_por = divider.append_axes("right", size=2.0, pad=0.8, sharey=ax_slice)
     _, z, t_end, phi = profile_at_end(out_dir, "solid_fraction")

@@ -63,6 +63,17 @@ void poly_cells(std::ostream& f, const char* kind, std::size_t cells, std::size_
   f << "</" << kind << ">\n";
 }
 
+// A PolyData piece of `cells` cells ("Lines" or "Polys"), each of `corners` consecutive
+// points: the header, the points and the cells, up to the cell data.
+void open_polydata(std::ostream& f, double time, const char* kind, std::size_t cells, std::size_t corners,
+                   const std::vector<Vec3>& points) {
+  open_dataset(f, "PolyData", time);
+  f << "<Piece NumberOfPoints=\"" << cells * corners << "\" NumberOf" << kind << "=\"" << cells << "\">\n<Points>\n";
+  vec_array(f, "position", points);
+  f << "</Points>\n";
+  poly_cells(f, kind, cells, corners);
+}
+
 }  // namespace
 
 void write_vtu(const std::string& path, const Particles& p, double time) {
@@ -109,11 +120,7 @@ void write_contacts_vtp(const std::string& path, const std::vector<NetworkContac
     normal_history[2 * k] = c.history.normal[0], normal_history[2 * k + 1] = c.history.normal[1];
   }
   CheckedFile f(path);
-  open_dataset(f, "PolyData", time);
-  f << "<Piece NumberOfPoints=\"" << 2 * n << "\" NumberOfLines=\"" << n << "\">\n<Points>\n";
-  vec_array(f, "position", points);
-  f << "</Points>\n";
-  poly_cells(f, "Lines", n, 2);
+  open_polydata(f, time, "Lines", n, 2, points);
   f << "<CellData Vectors=\"normal_force\">\n";
   data_array(f, "Int64", "id_i", 1, id_i);
   data_array(f, "Int64", "id_j", 1, id_j);
@@ -156,11 +163,7 @@ void write_walls_vtp(const std::string& path, const std::vector<Wall>& walls, co
     index[k] = static_cast<std::int32_t>(k), normal[k] = w.normal, velocity[k] = w.velocity;
   }
   CheckedFile f(path);
-  open_dataset(f, "PolyData", time);
-  f << "<Piece NumberOfPoints=\"" << 4 * n << "\" NumberOfPolys=\"" << n << "\">\n<Points>\n";
-  vec_array(f, "position", points);
-  f << "</Points>\n";
-  poly_cells(f, "Polys", n, 4);
+  open_polydata(f, time, "Polys", n, 4, points);
   f << "<CellData Normals=\"normal\">\n";
   data_array(f, "Int32", "wall", 1, index);
   vec_array(f, "normal", normal);
