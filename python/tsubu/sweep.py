@@ -242,9 +242,10 @@ def load_sweep(sweep):
 
 def find_tsubu(tsubu=None):
     """The tsubu executable: the argument, else $TSUBU_BINARY, else `tsubu` on the PATH, else the
-    repository's build/tsubu."""
-    candidates = [tsubu, os.environ.get("TSUBU_BINARY"), shutil.which("tsubu"),
-                  Path(__file__).resolve().parents[2] / "build" / "tsubu"]
+    build's tsubu: beside build/python when the package is imported from the build (as the
+    set-up installs it), or the repository's build/tsubu when imported from python/."""
+    here = Path(__file__).resolve().parents[2]
+    candidates = [tsubu, os.environ.get("TSUBU_BINARY"), shutil.which("tsubu"), here / "tsubu", here / "build" / "tsubu"]
     for c in candidates:
         if c and Path(c).is_file() and os.access(c, os.X_OK):
             return Path(c).resolve()
