@@ -33,10 +33,12 @@ Simulation run(World w, const BlockStepRules& rules, std::int64_t steps) {
 }
 
 TEST(BlockHermite, FreeParabolaIsExact) {
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-2, {0, 0, -9.81});
+  // dt = 0.5 ms: the grain moves at most 0.8 mm in a step, within the 2 mm its neighbour list
+  // reaches, so that no rule but the force's smoothness limits the step.
+  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 5e-4, {0, 0, -9.81});
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 1}, {0.3, -0.2, 1.5});
-  const Simulation sim = run(std::move(w), {}, 50);
-  const double t = 0.5;
+  const Simulation sim = run(std::move(w), {}, 100);
+  const double t = 0.05;
   const Vec3 x = sim.world().particles.position[0], v = sim.world().particles.velocity[0];
   EXPECT_NEAR(x.x, 0.3 * t, 1e-14);
   EXPECT_NEAR(x.y, -0.2 * t, 1e-14);
@@ -202,6 +204,30 @@ TEST(BlockHermite, AContactBetweenGrainsInTouchDoesNotTakeTheEventStep) {
   std::uint64_t fine = 0;
   for (std::size_t k = 8; k < per_level.size(); ++k) fine += per_level[k];
   EXPECT_EQ(fine, 0u) << "evaluations on level 8 (39 ns) or finer (18 with the event rule at this onset)";
+}
+
+TEST(BlockHermite, AGrainOnALongStepIsWokenBeforeAFastNeighbourReachesIt) {
+  // A 2 mm grain at rest takes the longest step, dt = 4 ms; a 1 mm grain comes at 0.5 m/s
+  // from 2 mm away, too far to be listed when the big one chose its step, and touches it
+  // 1 ns before that step ends. The big grain must be woken and take short steps before the
+  // contact begins: if the contact began inside its 4 ms step, the corrector would spread
+  // the onset over that step. Checked by the collision's outcome: momentum kept, the big
+  // grain no faster than an elastic collision makes it (2 m_s / (m_s + m_b) 0.5 m/s).
+  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 4e-3);
+  const double speed = 0.5, onset = 4e-3 - 1e-9;
+  w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0}, {});
+  w.particles.add(1, 0, 0.5e-3, 2650, {-1.5e-3 - speed * onset, 0, 0}, {speed, 0, 0});
+  const double m_big = w.particles.mass[0], m_small = w.particles.mass[1];
+  BlockStepRules rules;
+  rules.levels = 24;
+  Simulation sim = run(std::move(w), rules, 3);
+  const Particles& p = sim.world().particles;
+  ASSERT_GT(sim.block()->stats().wakes, 0u);
+  const Vec3 momentum = m_big * p.velocity[0] + m_small * p.velocity[1];
+  EXPECT_NEAR(momentum.x, m_small * speed, 1e-9 * m_small * speed);
+  EXPECT_GT(p.velocity[0].x, 0.5 * 2 * m_small / (m_small + m_big) * speed) << "the grains met";
+  EXPECT_LE(norm(p.velocity[0]), 2 * m_small / (m_small + m_big) * speed * (1 + 1e-6));
+  EXPECT_LT(norm(p.velocity[1] - Vec3{p.velocity[1].x, 0, 0}), 1e-9) << "a head-on collision stays on its line";
 }
 
 TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {

@@ -337,7 +337,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
   });
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = *std::max_element(worst.begin(), worst.end());
-  if (!(max_ratio <= world.overlap_limit)) report_overlap(world);
+  if (!(max_ratio <= world.overlap_limit)) report_overlap(world, false);
 }
 
 ContactTotals ForceField::totals(const World& world) const {
@@ -375,7 +375,7 @@ double ForceField::overlap_ratio(const World& world, std::size_t k, bool is_wall
   return pair_results_.entry[k].delta / (2.0 * std::min(p.radius[c.i], p.radius[c.j]));
 }
 
-void ForceField::report_overlap(const World& world) const {
+void ForceField::report_overlap(const World& world, bool block_steps) const {
   const Particles& p = world.particles;
   const Contact* worst = nullptr;
   bool wall = false;
@@ -412,6 +412,10 @@ void ForceField::report_overlap(const World& world) const {
   if (world.step == 0)
     msg << "this is the initial state, before any time step: the input places particles too deep in each other or "
            "in a wall (check their positions and diameters, and the walls; dt is not the cause)";
+  else if (block_steps)
+    msg << "with block steps each particle's step is dt/2^level, set by the step rules: a step was too long for this"
+           " contact; tighten [simulation.block_steps] (kappa_c for contacts, eta_gap for approaching grains,"
+           " eta_damping for dashpots), whatever dt is";
   else
     msg << "the time step " << world.dt << " s is probably too large for this stiffness and impact speed: try dt/4";
   throw NumericalError(msg.str());

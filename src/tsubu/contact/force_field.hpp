@@ -163,7 +163,8 @@ class ForceField {
   void accumulate(World& world, double fluid_lead);
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;
-  [[noreturn]] void report_overlap(const World& world) const;
+  // block_steps: the block-step evaluation (each particle's step dt/2^level, not dt).
+  [[noreturn]] void report_overlap(const World& world, bool block_steps) const;
 };
 
 }  // namespace tsubu

@@ -14,15 +14,6 @@ namespace {
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
 
-// Time until a gap closes at approach speed v and approach acceleration a (both along the
-// line of centres, positive when closing): the first root of gap = v t + a t^2/2.
-double time_to_close(double gap, double v, double a) {
-  const double disc = v * v + 2 * a * gap;
-  if (disc < 0) return kNever;
-  const double denom = v + std::sqrt(disc);
-  return denom > 0 ? 2 * gap / denom : kNever;
-}
-
 // The step a contact allows (ContactStepRules): touching, from its collision time at the
 // current approach speed and its current stiffness; apart, from the time to close the gap,
 // never below the step it would get on touching. (The dashpots' bound is a particle's: see
@@ -100,7 +91,7 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
     const double bound = dist > 0 ? contact_step(normal, rules, p.mass[c.i], r, false, -dot(v_rel, wall.normal), nullptr,
                                                  dist - r, -dot(a.a, wall.normal))
                                   : kNever;
-    wall_rates_[k] = {{}, {}, 0, bound};
+    wall_rates_[k] = {{}, {}, 0, bound, wall.normal};
     return;
   }
   const DualVec3 v_centre(v_rel, a.a);
@@ -192,7 +183,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   });
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
-  if (!(max_ratio <= world.overlap_limit)) report_overlap(world);
+  if (!(max_ratio <= world.overlap_limit)) report_overlap(world, true);
 }
 
 void ForceField::dashpot_response(const World& world, const std::vector<std::uint32_t>& active,

@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "tsubu/contact/geometry.hpp"
 
@@ -16,6 +17,16 @@ template <class T>
 Vector<T> contact_point_velocity(const Vector<T>& n, const T& arm_i, const T& arm_j, const Vector<T>& v_centres,
                                  const Vector<T>& wi, const Vector<T>& wj) {
   return v_centres + cross(wi, -arm_i * n) - cross(wj, arm_j * n);
+}
+
+// Time until a gap closes at approach speed v and approach acceleration a (both along the
+// line of centres, positive when closing): the first root of gap = v t + a t^2/2, infinity
+// when it never closes. The block steps' gap rule (ContactStepRules::eta_gap).
+inline double time_to_close(double gap, double v, double a) {
+  const double disc = v * v + 2 * a * gap;
+  if (disc < 0) return std::numeric_limits<double>::infinity();
+  const double denom = v + std::sqrt(disc);
+  return denom > 0 ? 2 * gap / denom : std::numeric_limits<double>::infinity();
 }
 
 // Pair (i, j) with separation d = x_i - x_j (touching: |d| < r_i + r_j); velocities and

@@ -31,7 +31,7 @@ struct BlockStepRules {
 // What the stepper did, for run.json and the series.
 struct BlockStepStats {
   std::uint64_t block_times = 0;
-  std::uint64_t wakes = 0;                      // particles woken early by a new contact
+  std::uint64_t wakes = 0;                      // particles woken early by a new contact or a closing gap
   std::vector<std::uint64_t> evaluations;       // particle force evaluations per level
 };
 
