@@ -228,7 +228,19 @@ def test_bad_sweep_file_exits_2(tmp_path):
     assert done.returncode == 2 and done.stderr == "error: --jobs: must be an integer of at least 1, got 0\n"
 
 
-@pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 9), ("fig7", 48), ("fig8", 2)])
+def test_only_selects_cases(grid_run, tmp_path):
+    """--only runs the cases with the given parameter values; a key the sweep does not vary is refused."""
+    file = write_sweep(tmp_path / "grid.toml", tmp_path / "out")
+    done = sweep(file, "--dry-run", "--only", "simulation.seed=4", "--only", "particles.0.solid_fraction=0.05")
+    assert done.returncode == 0, done.stderr
+    assert "4 cases, 1 selected, 1 to run" in done.stdout and "solid_fraction=0.05,seed=4:" in done.stdout
+    assert "seed=3" not in done.stdout
+    done = sweep(file, "--only", "simulation.dt=1e-6")
+    assert done.returncode == 2 and "--only simulation.dt: not a parameter of this sweep" in done.stderr
+
+
+@pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7", 48), ("fig8", 2), ("finite-size", 9),
+                                         ("vacuum", 9)])
 def test_example_sweeps_dry_run(tmp_path, name, count):
     """The sedimentation sweeps are valid: every case passes `tsubu check` (nothing is run)."""
     done = sweep(ROOT / "examples" / "sedimentation" / "sweeps" / f"{name}.toml", "--dry-run", cwd=tmp_path)

@@ -303,28 +303,51 @@ def write_results(sweep, path):
     os.replace(tmp, path)
 
 
-def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr):
+def select_cases(cases, only):
+    """The cases whose parameters match every "KEY=VALUE" of `only` (VALUE in TOML, as the
+    sweep file writes it: particles.0.solid_fraction=0.1)."""
+    wanted = {}
+    for item in only or ():
+        key, sep, text = item.partition("=")
+        try:
+            wanted[key.strip()] = tomllib.loads(f"v = {text}")["v"] if sep else None
+        except tomllib.TOMLDecodeError as e:
+            raise SweepError(f"--only {item}: {text!r} is not a TOML value ({e})") from None
+        if not sep:
+            raise SweepError(f"--only {item}: expected KEY=VALUE, e.g. particles.0.solid_fraction=0.1")
+    known = list(dict.fromkeys(k for c in cases for k in c.params))
+    for key in wanted:
+        if key not in known:
+            raise SweepError(f"--only {key}: not a parameter of this sweep (its parameters: {', '.join(known)})")
+    return [c for c in cases if all(key in c.params and c.params[key] == v for key, v in wanted.items())]
+
+
+def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr, only=None):
     """Runs the cases of `sweep` (a sweep file's path or a dict with its keys) that are not
-    finished; returns the list of Case (status "ok", "failed", "interrupted", or "pending"
-    for a case not run). A dry run prints each case's command and checks the scenario of
-    each case to be run with `tsubu check` (a case it refuses is "failed"). Raises SweepError
-    for a bad sweep; KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have
-    stopped with a checkpoint."""
+    finished, of those `only` selects (see select_cases; all by default); returns the list of
+    every Case (status "ok", "failed", "interrupted", or "pending" for a case not run). A dry
+    run prints each selected case's command and checks the scenario of each case to be run
+    with `tsubu check` (a case it refuses is "failed"). Raises SweepError for a bad sweep;
+    KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have stopped with a
+    checkpoint."""
     sweep = load_sweep(sweep)
+    chosen = select_cases(sweep.cases, only)
     if jobs is None:
         jobs = sweep.jobs
     elif isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise SweepError(f"--jobs: must be an integer of at least 1, got {jobs!r}")
     tsubu = find_tsubu(tsubu)
     commands = [(c, c.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed))
-                for c in sweep.cases]
+                for c in chosen]
     work = [(case, command) for case, command in commands if command]
     if dry_run:
         for case, command in commands:
             print(f"{case.name}: {' '.join(map(_quote, command)) if command else f'skip ({case.status})'}")
             if command and command[1] == "run":
                 _check(case, [str(tsubu), "check", str(sweep.scenario), *case.set_arguments(sweep.overrides)])
-        print(f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
+        print(f"{len(sweep.cases)} cases, {len(chosen)} selected, {len(work)} to run, {jobs} at a time,"
+              f" into {sweep.output}" if only else
+              f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
         return sweep.cases
     sweep.output.mkdir(parents=True, exist_ok=True)
     logs = sweep.output / "logs"
@@ -423,16 +446,19 @@ def main(argv=None):
     parser.add_argument("--dry-run", action="store_true", help="print what each case would run, run nothing")
     parser.add_argument("--retry-failed", action="store_true", help="run failed cases again from the start")
     parser.add_argument("--tsubu", help="the tsubu executable (default: $TSUBU_BINARY, tsubu on the PATH, build/tsubu)")
+    parser.add_argument("--only", action="append", metavar="KEY=VALUE",
+                        help="run only the cases with this parameter value (repeatable; VALUE in TOML)")
     args = parser.parse_args(argv)
     try:
         cases = run_sweep(args.sweep, jobs=args.jobs, dry_run=args.dry_run, tsubu=args.tsubu,
-                          retry_failed=args.retry_failed)
+                          retry_failed=args.retry_failed, only=args.only)
     except SweepError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("sweep: stopped; run the same command again to continue", file=sys.stderr)
         return INTERRUPTED
+    cases = select_cases(cases, args.only)
     failed = [c.name for c in cases if c.status != "ok"]
     if args.dry_run:
         failed = [c.name for c in cases if c.status == "failed"]
