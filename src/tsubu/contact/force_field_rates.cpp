@@ -14,18 +14,23 @@ namespace {
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
 
-// The step a contact allows (ContactStepRules): touching, from its collision time at the
-// current approach speed and its current stiffness; apart, from the time to close the gap,
-// never below the step it would get on touching. (The dashpots' bound is a particle's: see
-// damping_rate.)
+// The step a contact allows (ContactStepRules): touching, the shorter of kappa_c times its
+// collision time at the current approach speed and half a period of its current stiffness;
+// apart, the time to close the gap, never below the step it would get on touching. (The
+// dashpots' bound is a particle's: see damping_rate.) The collision time (a fifth root for
+// Hertz) is computed only when it is the bound.
 template <class Normal>
 double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
                     double v_approach, const ContactForceRate* now, double gap, double a_approach) {
-  const double impact = rules.kappa_c * normal.collision_time(m_eff, r_eff, std::max(v_approach, rules.u_floor));
-  if (!touching) return std::max(rules.eta_gap * time_to_close(gap, v_approach, a_approach), impact);
-  // The spring's half period at the current overlap.
-  if (now->stiffness > 0) return std::min(impact, rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness));
-  return impact;
+  const double u = std::max(v_approach, rules.u_floor);
+  const auto impact = [&] { return rules.kappa_c * normal.collision_time(m_eff, r_eff, u); };
+  if (!touching) {
+    const double closing = rules.eta_gap * time_to_close(gap, v_approach, a_approach);
+    return normal.collision_longer_than(m_eff, r_eff, u, closing / rules.kappa_c) ? impact() : closing;
+  }
+  if (!(now->stiffness > 0)) return impact();
+  const double spring = rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness);
+  return normal.collision_longer_than(m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
 }
 
 template <class Visit>
