@@ -1,0 +1,162 @@
+"""tools/plot_sedimentation.py: the reference formulas, the Talbot statistics, and the figures
+and tables drawn from a small fake set of sweep results (the script needs not the tsubu
+module)."""
+
+import csv
+import importlib.util
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(os.environ.get("TSUBU_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+SCRIPT = ROOT / "tools" / "plot_sedimentation.py"
+spec = importlib.util.spec_from_file_location("plot_sedimentation", SCRIPT)
+plot = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(plot)
+
+D_MAX = 0.01
+
+
+def test_wu_wang_at_10_mm():
+    assert plot.wu_wang_porosity(10) == pytest.approx(0.13 + 0.21 / 10.002 ** 0.21, rel=1e-12)
+    assert plot.wu_wang_porosity(10) == pytest.approx(0.2594, abs=1e-4)
+
+
+def test_song_wang_makse_at_z_6():
+    assert plot.song_wang_makse(6) == pytest.approx(6 / (6 + 2 * math.sqrt(3)), rel=1e-12)
+    assert plot.song_wang_makse(6) == pytest.approx(0.634, abs=5e-4)
+
+
+@pytest.mark.parametrize("spread", [0.5, 2.0])
+def test_talbot_statistics_against_the_closed_forms_of_s_2(spread):
+    """S = 2: the mass density is ~ d^2, so the mass median is ((d_min^3 + d_max^3)/2)^(1/3);
+    the number density is ~ 1/d, so <d^k> = (d_max^k - d_min^k)/(k Sigma)."""
+    d_min = D_MAX * math.exp(-spread)
+
+    def moment(k):
+        return (D_MAX ** k - d_min ** k) / (k * spread)
+
+    mean, variance = moment(1), moment(2) - moment(1) ** 2
+    skewness = (moment(3) - 3 * mean * moment(2) + 2 * mean ** 3) / variance ** 1.5
+    d50, delta, s3 = plot.talbot_statistics(2, spread)
+    assert d50 == pytest.approx(((d_min ** 3 + D_MAX ** 3) / 2) ** (1 / 3), rel=1e-7)
+    assert delta == pytest.approx(math.sqrt(variance) / mean, rel=1e-7)
+    assert s3 == pytest.approx(skewness, rel=1e-6)
+
+
+def test_talbot_statistics_against_a_sample_of_s_0():
+    """S = 0, Sigma = 2, drawn as tsubu draws it (inverse cumulative number distribution,
+    docs/sedimentation.md): the mass median of the sample and its number statistics."""
+    spread, k = 2.0, -2.0
+    d_min = D_MAX * math.exp(-spread)
+    u = np.random.default_rng(7).random(400_000)
+    d = np.sort((d_min ** k + u * (D_MAX ** k - d_min ** k)) ** (1 / k))
+    mass = np.cumsum(d ** 3)
+    d50, delta, s3 = plot.talbot_statistics(0, spread)
+    assert d50 == pytest.approx(d[np.searchsorted(mass, mass[-1] / 2)], rel=0.01)
+    assert delta == pytest.approx(d.std() / d.mean(), rel=0.01)
+    assert s3 == pytest.approx(((d - d.mean()) ** 3).mean() / d.std() ** 3, rel=0.02)
+
+
+def write_results(folder, cases):
+    """A results.csv as tsubu.sweep writes it (case, status, the parameters, the results) of
+    cases given as (parameters, status); the results are made up, the box is L = 8 cm."""
+    folder.mkdir(parents=True)
+    parameters = list(cases[0][0])
+    results = ["porosity", "porosity_exact", "porosity_standard_error", "porosity_grains", "coordination",
+               "coordination_no_rattlers", "coordination_no_rattlers_4", "gamma_upper", "gamma_lower",
+               "inflow_phi_0", "inflow_t_f"]
+    with open(folder / "results.csv", "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(["case", "status", "stop_reason", "wall_time_s", "steps", "particles", *parameters, *results,
+                      "message"])
+        for n, (values, status) in enumerate(cases):
+            porosity = 0.40 + 0.01 * (n % 3)
+            phi_0 = values.get("particles.0.solid_fraction", 0.1)
+            result = [porosity, porosity + 0.002, 0.0019, 120, 2.5, 3.0, 4.5 if n % 4 else 0, 0.3, 0.35, phi_0,
+                      math.sqrt(0.08 / 9.81)] if status == "ok" else [""] * len(results)
+            out.writerow([f"case{n}", status, "", 3.5, 1000, 300, *values.values(), *result, ""])
+
+
+@pytest.fixture
+def sweeps(tmp_path):
+    """Fake results of the five sweeps (fig5-6 with a failed and a pending case, fig8 with its
+    series); the box of fig5-6 and vacuum only through inflow_t_f."""
+    root = tmp_path / "sweeps"
+
+    def one_size(phi, seed):
+        return {"particles.0.solid_fraction": phi, "simulation.seed": seed}
+
+    grid = [(one_size(phi, seed), "ok") for phi in (0.3, 0.1, 0.03, 0.01) for seed in (1, 2, 3)]
+    write_results(root / "fig5-6", grid[:-2] + [(one_size(0.01, 2), "failed"), (one_size(0.01, 3), "pending")])
+    write_results(root / "vacuum", [(one_size(phi, seed), "ok") for phi in (0.1, 0.03, 0.01) for seed in (1, 2, 3)])
+    write_results(root / "finite-size", [({"simulation.seed": seed, "domain.upper": f"[{n * D_MAX}, {n * D_MAX}, 0.3]"},
+                                           "ok") for seed in (1, 2, 3) for n in (4, 8, 16)])
+    write_results(root / "fig7", [({"particles.0.distribution.exponent": s, "particles.0.solid_fraction": phi,
+                                    "particles.0.distribution.spread": spread}, "ok")
+                                   for s in (0, 1, 2) for phi in (0.1, 0.01) for spread in (0.5, 1.0, 2.0)])
+    write_results(root / "fig8", [({"particles.0.solid_fraction": phi}, "ok") for phi in (0.1, 0.01)])
+    for n in range(2):
+        case = root / "fig8" / f"case{n}"
+        case.mkdir()
+        with open(case / "series.csv", "w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow(["time", "gamma_upper", "gamma_upper_grains", "gamma_lower", "gamma_lower_grains"])
+            for t in np.linspace(0, 1, 11):
+                grains = 0 if t < 0.3 else 10
+                out.writerow([t, 0.3 if grains else 0, grains, 0.2 + 0.1 * t if grains else 0, grains])
+    return root
+
+
+def run(*args):
+    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], check=True, capture_output=True,
+                          text=True).stdout
+
+
+def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
+    out = tmp_path / "out"
+    printed = run("--sweeps", sweeps, "--out", out)
+    for name in ("phi-z", "flux", "finite-size", "fig7", "fig8"):
+        assert (out / f"sedimentation-{name}.png").stat().st_size > 10_000, printed
+    with open(out / "sedimentation.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 12 + 9 + 9 + 18 + 2
+    assert "sweep fig5-6: 10 of 12 cases ok" in printed
+    failed = next(r for r in rows if r["status"] == "failed")
+    assert failed["porosity"] == "" and failed["Q_over_Q0"] == "0.1"
+    first = rows[0]
+    assert (first["sweep"], first["Q_over_Q0"], first["L_over_d"], first["fluid"]) == ("fig5-6", "3", "8", "yes")
+    assert first["coordination_no_rattlers_4"] == ""  # the run's 0: no grain with 4 contacts
+    sizes = [r["L_over_d"] for r in rows if r["sweep"] == "finite-size"]
+    assert sizes[:3] == ["4", "8", "16"]
+    vacuum = [r for r in rows if r["sweep"] == "vacuum"]
+    assert {r["fluid"] for r in vacuum} == {"no"} and vacuum[0]["S"] == ""
+    fig8 = [r for r in rows if r["sweep"] == "fig8"]
+    assert [(r["S"], r["Sigma"]) for r in fig8] == [("0", "2"), ("0", "2")]
+
+
+def test_missing_sweeps_are_skipped_and_said(sweeps, tmp_path):
+    for sweep in ("fig5-6", "vacuum", "fig7"):
+        (sweeps / sweep / "results.csv").unlink()
+    out = tmp_path / "out"
+    printed = run("--sweeps", sweeps, "--out", out)
+    assert "sedimentation-phi-z.png: not drawn" in printed
+    assert "sedimentation-fig7.png: not drawn" in printed
+    assert "sweep vacuum: no " in printed
+    assert sorted(p.name for p in out.glob("*.png")) == ["sedimentation-fig8.png", "sedimentation-finite-size.png"]
+
+
+def test_markdown_tables(sweeps, tmp_path):
+    printed = run("--sweeps", sweeps, "--out", tmp_path / "out", "--markdown")
+    assert not (tmp_path / "out").exists()
+    assert "| fluid | L/d | Q/Q0 | seeds | porosity |" in printed
+    assert "| no | 8 | 0.1 | 3 |" in printed
+    assert "| yes | 16 | 1 | 3 |" in printed
+    d50, delta, skewness = plot.talbot_statistics(0, 2.0)
+    assert f"| 0 | 2 | 1.35 | {d50 * 1e3:.2f} | {delta:.3f} | {skewness:.2f} |" in printed
+    assert "No finished case" not in printed

@@ -1,0 +1,456 @@
+#!/usr/bin/env -S /usr/bin/python3
+"""Figures and tables of the sedimentation report (docs/validation/sedimentation.md).
+
+    plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
+
+Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
+examples/sedimentation/sweeps/ fig5-6, vacuum, finite-size, fig7 and fig8, and the
+series.csv of each fig8 case; only cases with status ok enter the figures. Writes into
+--out (default: docs/validation of the repository):
+
+    sedimentation-phi-z.png        solid fraction against Z without rattlers (Fig. 5)
+    sedimentation-flux.png         porosity against the flux Q/Q_0, water and vacuum (Fig. 6)
+    sedimentation-finite-size.png  porosity and Z against the box size L/d
+    sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7)
+    sedimentation-fig8.png         segregation Gamma of the two layers against time (Fig. 8)
+    sedimentation.csv              one row per case of every sweep present
+
+A missing sweep is skipped and a figure without data is not drawn; both are said on stdout.
+With --markdown the script writes nothing and prints the report's tables to stdout instead.
+
+Values are means over the seeds of a case; error bars are the standard deviation over the
+seeds, or with one seed the Monte Carlo standard error of the porosity (none for Z).
+
+Needs Debian's /usr/bin/python3 with python3-numpy and python3-matplotlib (not the tsubu
+module).
+"""
+import argparse
+import csv
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig8")
+WITHOUT_FLUID = {"vacuum"}
+MIXTURES = {"fig7", "fig8"}
+TALBOT_PARAMETERS = {"S": "particles.0.distribution.exponent", "Sigma": "particles.0.distribution.spread"}
+POLY_EXAMPLE = {"S": 0.0, "Sigma": 2.0}  # poly.toml's Talbot exponent and spread
+D_MAX = 0.01        # m: the diameter of the one-size sweeps, d_max of the mixtures
+GRAVITY = 9.81      # m/s^2, the examples' gravity
+PHI_0_OF_Q_0 = 0.1  # inflow solid fraction of the paper's highest flux Q_0
+RANDOM_LOOSE, RANDOM_CLOSE = 0.55, 0.64  # solid fractions of random packings of one size
+RESULTS = ("porosity", "porosity_exact", "porosity_standard_error", "porosity_grains", "coordination",
+           "coordination_no_rattlers", "coordination_no_rattlers_4", "gamma_upper", "gamma_lower",
+           "wall_time_s", "particles")
+CSV_COLUMNS = ("sweep", "case", "status", "phi_0", "Q_over_Q0", "S", "Sigma", "L_over_d", "seed", "fluid",
+               *RESULTS)
+
+
+def wu_wang_porosity(d50_mm):
+    """Porosity of a deposit of median grain size d50 (mm) by Wu & Wang (2006)."""
+    return 0.13 + 0.21 / (d50_mm + 0.002) ** 0.21
+
+
+def song_wang_makse(z):
+    """Solid fraction of a jammed packing with mean coordination z (rattlers left out), by
+    Song, Wang & Makse (2008)."""
+    return z / (z + 2 * math.sqrt(3))
+
+
+def talbot_statistics(exponent, spread, d_max=D_MAX, points=20001):
+    """(d50 by mass, polydispersity, skewness) of a Talbot distribution.
+
+    The number density of diameters is n(d) ~ d^(exponent - 3) on [d_min, d_max],
+    d_min = d_max exp(-spread), so the mass density is ~ d^exponent. d50 is the diameter
+    below which half of the mass lies; the polydispersity delta is the standard deviation
+    of the diameter over its mean and the skewness the third standardised moment, both of
+    the number distribution. Integrated by the trapezoidal rule in ln d on `points` points.
+    """
+    log_d = np.linspace(math.log(d_max) - spread, math.log(d_max), points)
+    d = np.exp(log_d)
+    number = d ** (exponent - 2)  # n(d) dd = d^(exponent - 3) d dln(d)
+
+    def cumulative(f):
+        return np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(log_d))])
+
+    mass = cumulative(number * d ** 3)
+    d50 = float(np.interp(0.5 * mass[-1], mass, d))
+    moments = [cumulative(number * d ** k)[-1] for k in range(4)]
+    mean = moments[1] / moments[0]
+    variance = moments[2] / moments[0] - mean ** 2
+    third = moments[3] / moments[0] - 3 * mean * moments[2] / moments[0] + 2 * mean ** 3
+    return d50, math.sqrt(variance) / mean, third / variance ** 1.5
+
+
+def number(text):
+    """A cell of a results.csv as a float, NaN when empty."""
+    return float(text) if text else math.nan
+
+
+def box_size(row):
+    """L (m): the first number of the domain.upper parameter, else from the free-fall time
+    t_f = sqrt(L/g) that the run reports."""
+    if row.get("domain.upper"):
+        return float(row["domain.upper"].strip("[]").split(",")[0])
+    return GRAVITY * number(row.get("inflow_t_f", "")) ** 2
+
+
+def without_empty(z, least):
+    """A mean coordination over the grains with at least `least` contacts, NaN when no grain
+    was left (a run reports 0 then)."""
+    return z if z >= least else math.nan
+
+
+def case_from_row(folder, sweep, row):
+    """A case of a results.csv by the physics' names, with its output folder; its results
+    only when its status is ok."""
+    ok = row["status"] == "ok"
+    phi_0 = number(row.get("particles.0.solid_fraction") or row.get("inflow_phi_0", ""))
+    case = {"sweep": sweep, "case": row["case"], "folder": Path(folder) / sweep / row["case"],
+            "status": row["status"], "phi_0": phi_0,
+            "Q_over_Q0": round(phi_0 / PHI_0_OF_Q_0, 6), "S": math.nan, "Sigma": math.nan,
+            "L_over_d": round(box_size(row) / D_MAX, 2),
+            "seed": int(row.get("simulation.seed") or 1),  # 1: the examples' seed
+            "fluid": "no" if sweep in WITHOUT_FLUID else "yes"}
+    if sweep in MIXTURES:
+        for name, key in TALBOT_PARAMETERS.items():
+            case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
+    for key in RESULTS:
+        case[key] = number(row.get(key, "")) if ok else math.nan
+    case["coordination_no_rattlers"] = without_empty(case["coordination_no_rattlers"], 2)
+    case["coordination_no_rattlers_4"] = without_empty(case["coordination_no_rattlers_4"], 4)
+    return case
+
+
+def read_sweeps(folder):
+    """{sweep: [case, ...]} of the sweeps whose results.csv exists, in SWEEPS order."""
+    found = {}
+    for sweep in SWEEPS:
+        path = Path(folder) / sweep / "results.csv"
+        if path.exists():
+            with open(path, newline="") as f:
+                found[sweep] = [case_from_row(folder, sweep, row) for row in csv.DictReader(f)]
+    return found
+
+
+def finished(sweeps, name):
+    """The cases of a sweep with status ok ([] for a sweep not found)."""
+    return [c for c in sweeps.get(name, []) if c["status"] == "ok"]
+
+
+def by(cases, *keys):
+    """The cases grouped by the values of keys, in sorted order: [(values, [case, ...])]."""
+    groups = {}
+    for c in cases:
+        groups.setdefault(tuple(c[k] for k in keys), []).append(c)
+    return sorted(groups.items(), key=lambda item: item[0])
+
+
+def over_seeds(cases, key, single_error=None):
+    """(mean, error) of a quantity over the cases of one group (its seeds): the error is the
+    standard deviation over them, or for a single case its `single_error` column (NaN
+    without one)."""
+    known = [c for c in cases if not math.isnan(c[key])]
+    if not known:
+        return math.nan, math.nan
+    if len(known) == 1:
+        return known[0][key], known[0][single_error] if single_error else math.nan
+    values = np.array([c[key] for c in known])
+    return float(values.mean()), float(values.std(ddof=1))
+
+
+FLUX_STYLES = {3.0: ("C3", "v"), 1.0: ("C0", "o"), 0.5: ("C4", "D"), 0.3: ("C1", "s"), 0.1: ("C2", "^")}
+
+
+def flux_style(q):
+    """(colour, marker) of a flux Q/Q_0."""
+    return FLUX_STYLES.get(q, ("0.4", "o"))
+
+
+def box_label(cases):
+    """'L/d = 4, 8' of the boxes of the cases, for a title."""
+    return "L/d = " + ", ".join(f"{b:g}" for b in sorted({c["L_over_d"] for c in cases}))
+
+
+def plot_phi_z(sweeps, png):
+    """Fig. 5: solid fraction against Z without rattlers (< 4 contacts), water and vacuum, with
+    the Song-Wang-Makse line and the random loose and close packings of one size. False without data."""
+    water, vacuum = finished(sweeps, "fig5-6"), finished(sweeps, "vacuum")
+    if not water + vacuum:
+        return False
+    fig, ax = plt.subplots(figsize=(6.5, 5), layout="constrained")
+    for cases, medium in ((water, "water"), (vacuum, "vacuum")):
+        for (q,), group in by(cases, "Q_over_Q0"):
+            z, z_error = over_seeds(group, "coordination_no_rattlers_4")
+            porosity, porosity_error = over_seeds(group, "porosity", "porosity_standard_error")
+            colour, marker = flux_style(q)
+            ax.errorbar(z, 1 - porosity, xerr=None if math.isnan(z_error) else z_error, yerr=porosity_error,
+                        color=colour, capsize=3,
+                        marker="*" if medium == "vacuum" else marker, ms=12 if medium == "vacuum" else 7,
+                        ls="none", label=f"{medium}, Q/Q0 = {q:g}")
+    z = np.linspace(3.5, 6.5, 50)
+    ax.plot(z, song_wang_makse(z), "k-", lw=1, label="Song, Wang & Makse: φ = Z/(Z + 2√3)")
+    ax.axhline(RANDOM_LOOSE, color="0.5", ls="--", lw=1, label=f"random loose packing {RANDOM_LOOSE}")
+    ax.axhline(RANDOM_CLOSE, color="0.5", ls=":", lw=1, label=f"random close packing {RANDOM_CLOSE}")
+    ax.set_xlabel("Z without rattlers (grains with fewer than 4 contacts left out)")
+    ax.set_ylabel("solid fraction φ = 1 - porosity")
+    ax.set_title(f"One size, d = 1 cm, {box_label(water + vacuum)}", fontsize="medium")
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def plot_flux(sweeps, png):
+    """Fig. 6: porosity against the flux, water and vacuum, with Wu & Wang at d50 = d. False without data."""
+    water, vacuum = finished(sweeps, "fig5-6"), finished(sweeps, "vacuum")
+    if not water + vacuum:
+        return False
+    fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
+    for cases, medium, marker in ((water, "water", "o"), (vacuum, "vacuum", "*")):
+        points = [(q, *over_seeds(group, "porosity", "porosity_standard_error"))
+                  for (q,), group in by(cases, "Q_over_Q0")]
+        if points:
+            q, porosity, error = zip(*points)
+            ax.errorbar(q, porosity, yerr=error, marker=marker, ms=12 if medium == "vacuum" else 7,
+                        capsize=3, label=medium)
+    d50_mm = D_MAX * 1e3
+    predicted = wu_wang_porosity(d50_mm)
+    ax.axhline(predicted, color="k", ls="--", lw=1, label=f"Wu & Wang, d50 = {d50_mm:g} mm: {predicted:.3f}")
+    fluxes = sorted({c["Q_over_Q0"] for c in water + vacuum})
+    ax.set_xscale("log")
+    ax.set_xticks(fluxes, [f"{q:g}" for q in fluxes])
+    ax.minorticks_off()
+    ax.set_xlabel("flux Q/Q0 (= φ0/0.1)")
+    ax.set_ylabel("porosity of 0.15 L < z < 0.35 L")
+    ax.set_title(f"One size, d = 1 cm, {box_label(water + vacuum)}", fontsize="medium")
+    ax.legend(fontsize="small")
+    ax.grid(alpha=0.3)
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def plot_finite_size(sweeps, png):
+    """Porosity and Z (both rattler definitions) against the box size L/d. False without data."""
+    cases = finished(sweeps, "finite-size")
+    if not cases:
+        return False
+    groups = by(cases, "L_over_d")
+    sizes = [size for (size,), _ in groups]
+    fig, (ax_porosity, ax_z) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
+    porosity = [over_seeds(g, "porosity", "porosity_standard_error") for _, g in groups]
+    ax_porosity.errorbar(sizes, *zip(*porosity), marker="o", capsize=3)
+    ax_porosity.set_ylabel("porosity of 0.15 L < z < 0.35 L")
+    for key, label in (("coordination_no_rattlers", "fewer than 2 contacts left out"),
+                       ("coordination_no_rattlers_4", "fewer than 4 contacts left out")):
+        z = [over_seeds(g, key) for _, g in groups]
+        ax_z.errorbar(sizes, *zip(*z), marker="o", capsize=3, label=label)
+    ax_z.set_ylabel("Z without rattlers")
+    ax_z.legend(fontsize="small")
+    for ax in (ax_porosity, ax_z):
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(sizes, [f"{s:g}" for s in sizes])
+        ax.minorticks_off()
+        ax.set_xlabel("box size L/d")
+        ax.grid(alpha=0.3)
+    q = sorted({c["Q_over_Q0"] for c in cases})
+    fig.suptitle(f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}; "
+                 "error bars: standard deviation over the seeds", fontsize="medium")
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def plot_fig7(sweeps, png):
+    """Fig. 7: porosity of the mixtures against Sigma, a panel per flux and a line per S, with
+    Wu & Wang for each mixture's d50 by mass. False without data."""
+    cases = finished(sweeps, "fig7")
+    if not cases:
+        return False
+    panels = by(cases, "Q_over_Q0")[::-1]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4 * len(panels) + 1, 4.5), sharey=True,
+                             layout="constrained", squeeze=False)
+    for ax, ((q,), panel) in zip(axes[0], panels):
+        for n, ((exponent,), line) in enumerate(by(panel, "S")):
+            points = [(spread, *over_seeds(g, "porosity", "porosity_standard_error"))
+                      for (spread,), g in by(line, "Sigma")]
+            spread, porosity, error = zip(*points)
+            ax.errorbar(spread, porosity, yerr=error, marker="o", capsize=3, color=f"C{n}", label=f"S = {exponent:g}")
+            predicted = [wu_wang_porosity(talbot_statistics(exponent, s)[0] * 1e3) for s in spread]
+            ax.plot(spread, predicted, ":", color=f"C{n}", label=f"Wu & Wang, S = {exponent:g}")
+        ax.set_title(f"Q/Q0 = {q:g} (φ0 = {q * PHI_0_OF_Q_0:g})", fontsize="medium")
+        ax.set_xlabel("spread Σ = ln(d_max/d_min)")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L")
+    axes[0][0].legend(fontsize="small")
+    fig.suptitle(f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}; dotted: Wu & Wang for each "
+                 "mixture's d50 by mass", fontsize="medium")
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def read_series(path):
+    """series.csv as {column: array}."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return {key: np.array([number(r[key]) for r in rows]) for key in rows[0]} if rows else {}
+
+
+def plot_fig8(sweeps, png):
+    """Fig. 8: Gamma of the upper and lower layers against time, a panel per flux. False without data."""
+    cases = finished(sweeps, "fig8")
+    if not cases:
+        return False
+    fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases) + 1, 4.5), sharey=True,
+                             layout="constrained", squeeze=False)
+    for ax, case in zip(axes[0], sorted(cases, key=lambda c: -c["Q_over_Q0"])):
+        series = read_series(case["folder"] / "series.csv")
+        for layer, heights, style in (("upper", "0.25-0.35 L", "-"), ("lower", "0.15-0.25 L", "--")):
+            gamma = series[f"gamma_{layer}"]
+            grains = series.get(f"gamma_{layer}_grains")
+            shown = grains > 0 if grains is not None else np.isfinite(gamma)  # Γ is 0 in an empty layer
+            ax.plot(series["time"][shown], gamma[shown], "k" + style, label=f"{layer} layer ({heights})")
+        ax.set_title(f"Q/Q0 = {case['Q_over_Q0']:g}", fontsize="medium")
+        ax.set_xlabel("time (s)")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("Γ: share of d < d_max/3 in the solid volume")
+    axes[0][0].legend(fontsize="small")
+    fig.suptitle(f"Talbot S = {cases[0]['S']:g}, Σ = {cases[0]['Sigma']:g}, d_max = 1 cm, {box_label(cases)}",
+                 fontsize="medium")
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def csv_value(value):
+    """A value as sedimentation.csv writes it: empty for NaN, whole numbers without '.0'."""
+    if isinstance(value, float):
+        return "" if math.isnan(value) else int(value) if value.is_integer() else value
+    return value
+
+
+def write_csv(sweeps, path):
+    """sedimentation.csv: one row per case of every sweep found, CSV_COLUMNS."""
+    with open(path, "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(CSV_COLUMNS)
+        for cases in sweeps.values():
+            for c in cases:
+                out.writerow([csv_value(c[k]) for k in CSV_COLUMNS])
+
+
+def cell(mean, error=math.nan, digits=3):
+    """mean ± error as text; '–' for a missing value."""
+    if math.isnan(mean):
+        return "–"
+    return f"{mean:.{digits}f}" + ("" if math.isnan(error) else f" ± {error:.{digits}f}")
+
+
+def table(header, rows):
+    """The lines of a Markdown table."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return lines + ["| " + " | ".join(row) + " |" for row in rows]
+
+
+COLUMNS = {  # column: (heading, digits)
+    "porosity": ("porosity", 3), "porosity_exact": ("exact", 3), "porosity_grains": ("grains in slab", 0),
+    "coordination": ("Z", 2), "coordination_no_rattlers": ("Z (< 2 out)", 2),
+    "coordination_no_rattlers_4": ("Z (< 4 out)", 2), "gamma_upper": ("Γ upper", 3),
+    "gamma_lower": ("Γ lower", 3), "wall_time_s": ("wall time (s)", 0),
+}
+
+
+def deposit_cells(group, keys):
+    """The table cells of the columns over a group of seeds: the porosity as mean ± error
+    (standard deviation, or the Monte Carlo standard error of a single run), Z as mean ±
+    standard deviation, the others as means."""
+    cells = []
+    for key in keys:
+        if key == "porosity":
+            mean, error = over_seeds(group, key, "porosity_standard_error")
+        elif key.startswith("coordination"):
+            mean, error = over_seeds(group, key)
+        else:
+            mean, error = over_seeds(group, key)[0], math.nan
+        cells.append(cell(mean, error, COLUMNS[key][1]))
+    return cells
+
+
+ONE_SIZE = ("porosity", "porosity_exact", "porosity_grains", "coordination", "coordination_no_rattlers",
+            "coordination_no_rattlers_4", "wall_time_s")
+MIXTURE = ("porosity", "porosity_exact", "porosity_grains", "coordination_no_rattlers_4", "gamma_upper",
+           "gamma_lower", "wall_time_s")
+
+
+def markdown(sweeps):
+    """The report's tables (Markdown), one per sweep present, then the mixtures' statistics."""
+    lines = []
+    one_size = (("Figs. 5-6, one size", finished(sweeps, "fig5-6") + finished(sweeps, "vacuum")),
+                ("Finite size, one size", finished(sweeps, "finite-size")))
+    for title, cases in one_size:
+        if cases:
+            rows = [[fluid, f"{size:g}", f"{q:g}", str(len(g)), *deposit_cells(g, ONE_SIZE)]
+                    for (fluid, size, q), g in by(cases, "fluid", "L_over_d", "Q_over_Q0")]
+            lines += [f"{title} (mean ± standard deviation over the seeds):", "",
+                      *table(["fluid", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
+    mixtures = finished(sweeps, "fig7") + finished(sweeps, "fig8")
+    if mixtures:
+        rows = [[sweep, f"{q:g}", f"{exponent:g}", f"{spread:g}", str(len(g)), *deposit_cells(g, MIXTURE)]
+                for (sweep, q, exponent, spread), g in by(mixtures, "sweep", "Q_over_Q0", "S", "Sigma")]
+        lines += ["Figs. 7-8, Talbot mixtures (one seed: ± is the Monte Carlo standard error; Γ at the stop):", "",
+                  *table(["sweep", "Q/Q0", "S", "Σ", "seeds", *(COLUMNS[k][0] for k in MIXTURE)], rows), ""]
+        rows = []
+        for exponent, spread in sorted({(c["S"], c["Sigma"]) for c in mixtures}):
+            d50, delta, skewness = talbot_statistics(exponent, spread)
+            rows.append([f"{exponent:g}", f"{spread:g}", f"{D_MAX * math.exp(-spread) * 1e3:.2f}", f"{d50 * 1e3:.2f}",
+                         f"{delta:.3f}", f"{skewness:.2f}", f"{wu_wang_porosity(d50 * 1e3):.3f}"])
+        lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution):", "",
+                  *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity"], rows), ""]
+    lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS if not finished(sweeps, sweep)]
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sweeps", type=Path, default=ROOT / "out" / "sweeps", help="folder of the sweeps' outputs")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "validation", help="folder to write into")
+    parser.add_argument("--markdown", action="store_true", help="print the report's tables, write nothing")
+    args = parser.parse_args()
+    sweeps = read_sweeps(args.sweeps)
+    if args.markdown:
+        print(markdown(sweeps))
+        return
+    for sweep in SWEEPS:
+        if sweep in sweeps:
+            print(f"sweep {sweep}: {len(finished(sweeps, sweep))} of {len(sweeps[sweep])} cases ok")
+        else:
+            print(f"sweep {sweep}: no {args.sweeps / sweep / 'results.csv'}, skipped")
+    args.out.mkdir(parents=True, exist_ok=True)
+    figures = (("sedimentation-phi-z.png", plot_phi_z, "fig5-6 or vacuum"),
+               ("sedimentation-flux.png", plot_flux, "fig5-6 or vacuum"),
+               ("sedimentation-finite-size.png", plot_finite_size, "finite-size"),
+               ("sedimentation-fig7.png", plot_fig7, "fig7"),
+               ("sedimentation-fig8.png", plot_fig8, "fig8"))
+    for name, draw, needs in figures:
+        if draw(sweeps, args.out / name):
+            print(args.out / name)
+        else:
+            print(f"{name}: not drawn, no finished case of {needs}")
+    if sweeps:
+        write_csv(sweeps, args.out / "sedimentation.csv")
+        print(args.out / "sedimentation.csv")
+    else:
+        print("sedimentation.csv: not written, no sweep found")
+
+
+if __name__ == "__main__":
+    main()
