@@ -354,12 +354,11 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
-    report = _Progress(progress, len(sweep.cases))
+    report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
 
     def counts():
-        return (sum(c.status == "ok" for c in sweep.cases), len(running),
-                sum(c.status == "failed" for c in sweep.cases))
+        return (sum(c.status == "ok" for c in chosen), len(running), sum(c.status == "failed" for c in chosen))
 
     def finish(proc):
         case, log_path, log = running.pop(proc)
