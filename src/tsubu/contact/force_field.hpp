@@ -36,7 +36,7 @@ struct ContactRecord {
 // than its contact step.
 struct ContactStepRules {
   double kappa_c = 0.04;
-  double eta_damping = 1.0;  // a particle's step at most this over its dashpots' decay rate
+  double eta_damping = 1.5;  // a particle's step at most this over its dashpots' decay rate
   double eta_gap = 0.5;
   double u_floor = 1e-3;  // m/s
 };

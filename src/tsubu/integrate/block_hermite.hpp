@@ -19,7 +19,7 @@ struct BlockStepRules {
   int levels = 20;          // L: steps dt, dt/2, ..., dt/2^L
   int force_level = -1;     // >= 0: every particle on this level (a shared-step Hermite run)
   double kappa_c = 0.04;    // contact step: kappa_c t_coll (Eq. 20) or kappa_c pi sqrt(m*/k)
-  double eta_damping = 1.0; // dashpots: lambda h <= eta_damping (ForceField::compute_active)
+  double eta_damping = 1.5; // dashpots: lambda h <= eta_damping (ForceField::compute_active)
   double eta_gap = 0.5;     // free particles: share of the time to close a gap
   double eta_tau = 0.1;     // share of the fluid relaxation time
   double eta_a = 0.02;      // Aarseth criterion
