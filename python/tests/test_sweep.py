@@ -237,9 +237,10 @@ def test_only_selects_cases(grid_run, tmp_path):
     assert "seed=3" not in done.stdout
     done = sweep(file, "--only", "simulation.dt=1e-6")
     assert done.returncode == 2 and "--only simulation.dt: not a parameter of this sweep" in done.stderr
-    finished, _, _ = grid_run
+    finished, out, _ = grid_run
     done = sweep(finished, "--only", "simulation.seed=4")
     assert done.returncode == 0 and "sweep: 2 of 2 cases finished" in done.stderr, done.stderr
+    assert [row["status"] for row in results(out).values()] == ["ok"] * 4, "results.csv keeps the cases left out"
 
 
 @pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7", 48), ("fig8", 2), ("finite-size", 9),

@@ -337,6 +337,8 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     elif isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise SweepError(f"--jobs: must be an integer of at least 1, got {jobs!r}")
     tsubu = find_tsubu(tsubu)
+    for c in sweep.cases:
+        c.refresh()  # the cases --only leaves out keep their status in results.csv
     commands = [(c, c.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed))
                 for c in chosen]
     work = [(case, command) for case, command in commands if command]
