@@ -314,11 +314,18 @@ def plot_fig8(sweeps, png):
                              layout="constrained", squeeze=False)
     for ax, case in zip(axes[0], sorted(cases, key=lambda c: -c["Q_over_Q0"])):
         series = read_series(case["folder"] / "series.csv")
-        for layer, heights, style in (("upper", "0.25-0.35 L", "-"), ("lower", "0.15-0.25 L", "--")):
+        box = case["L_over_d"] * D_MAX
+        # A layer counts once the deposit covers it (deposit height, in slices of 0.1 L, at
+        # least the slice through the layer's middle); before, the grains falling through it
+        # make Γ jump between 0 and 1 (drawn faint).
+        for layer, heights, style, covered in (("upper", "0.25-0.35 L", "-", 0.3), ("lower", "0.15-0.25 L", "--", 0.2)):
             gamma = series[f"gamma_{layer}"]
             grains = series.get(f"gamma_{layer}_grains")
             shown = grains > 0 if grains is not None else np.isfinite(gamma)  # Γ is 0 in an empty layer
-            ax.plot(series["time"][shown], gamma[shown], "k" + style, label=f"{layer} layer ({heights})")
+            deposit = series["deposit_height"] >= (covered - 0.01) * box
+            ax.plot(series["time"][shown], gamma[shown], "k" + style, alpha=0.25, lw=0.8)
+            ax.plot(series["time"][shown & deposit], gamma[shown & deposit], "k" + style,
+                    label=f"{layer} layer ({heights}), deposit over it")
         ax.set_title(f"Q/Q0 = {case['Q_over_Q0']:g}", fontsize="medium")
         ax.set_xlabel("time (s)")
         ax.grid(alpha=0.3)

@@ -106,10 +106,11 @@ def sweeps(tmp_path):
         case.mkdir()
         with open(case / "series.csv", "w", newline="") as f:
             out = csv.writer(f)
-            out.writerow(["time", "gamma_upper", "gamma_upper_grains", "gamma_lower", "gamma_lower_grains"])
+            out.writerow(["time", "deposit_height", "gamma_upper", "gamma_upper_grains", "gamma_lower",
+                          "gamma_lower_grains"])
             for t in np.linspace(0, 1, 11):
                 grains = 0 if t < 0.3 else 10
-                out.writerow([t, 0.3 if grains else 0, grains, 0.2 + 0.1 * t if grains else 0, grains])
+                out.writerow([t, 0.04 * 0.4 * t, 0.3 if grains else 0, grains, 0.2 + 0.1 * t if grains else 0, grains])
     return root
 
 
