@@ -126,7 +126,11 @@ void BlockHermite::take_state(World& world, std::size_t i) {
   p.force[i] += fl.force, p.torque[i] += fl.torque;
 }
 
-void BlockHermite::particles_added(World& world, std::size_t first) {
+void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t first) {
+  // The new particles are evaluated at once, after the lists are rebuilt with them, so that
+  // their first steps follow the gap rule too: two grains entering close together, each on
+  // a free grain's long step, once began a contact inside both steps (117 % overlap). An
+  // older neighbour on a longer step is then woken by the new one's gap (see wake()).
   Particles& p = world.particles;
   const std::size_t n = p.size();
   const std::int64_t now = world.step << rules_.levels;
@@ -134,26 +138,25 @@ void BlockHermite::particles_added(World& world, std::size_t first) {
   size_scratch(n);
   is_active_.resize(n, 0);
   slot_.resize(n, UINT32_MAX);
+  std::vector<std::uint32_t> fresh;
   for (std::size_t i = first; i < n; ++i) {
-    // Untouched: gravity and the fluid alone, and the steps they allow.
-    const double d = 2 * p.radius[i];
-    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
-    p.force[i] = p.mass[i] * world.gravity, p.torque[i] = {};
-    rates_.force[i] = {}, rates_.torque[i] = {};
-    p.contact_count[i] = 0;
+    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * p.radius[i]);
     state_.time[i] = now;
-    take_state(world, i);
-    const double bound = std::min(second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
-                                  rules_.eta_tau * drag_relaxation_time(world.fluid, d, p.translational_mass[i], norm(p.velocity[i])));
-    state_.level[i] = static_cast<std::uint8_t>(level_for(bound, world));
-    set_level(static_cast<std::uint32_t>(i), state_.level[i]);
-    ++stats_.evaluations[state_.level[i]];
+    fresh.push_back(static_cast<std::uint32_t>(i));
+    is_active_[i] = 1;
   }
-  // The lists know nothing of them yet: rebuilt before the next evaluation. Until then each
-  // has an entry (a checkpoint stores one per particle).
-  list_positions_.insert(list_positions_.end(), p.position.begin() + static_cast<std::ptrdiff_t>(first), p.position.end());
-  list_reach_.resize(n, 0.0);
-  lists_stale_ = true;
+  rebuild_lists(world, forces, now);
+  forces.compute_active(world, predictor(world, now), fresh, is_active_,
+                        {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}, rates_);
+  for (std::uint32_t i : fresh) {
+    take_state(world, i);
+    const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
+                                   rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
+                                                                         norm(p.velocity[i]))});
+    set_level(i, level_for(bound, world));
+    ++stats_.evaluations[state_.level[i]];
+    is_active_[i] = 0;
+  }
 }
 
 void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,

@@ -46,8 +46,9 @@ class BlockHermite {
   void resume(World& world, ForceField& forces, HermiteState state, std::vector<Vec3> list_positions,
               std::vector<double> list_reach, bool lists_stale, const BlockStepStats& stats);
   // Particles appended from index `first` between two calls of advance (see
-  // Simulation::particles_added): their state at the current time and first steps.
-  void particles_added(World& world, std::size_t first);
+  // Simulation::particles_added): evaluated at the current time, with the lists rebuilt,
+  // for their state and first steps.
+  void particles_added(World& world, ForceField& forces, std::size_t first);
   // Advances every particle by dt through the block times in between: afterwards all are
   // at time (world.step + 1) dt, which world.step and world.time then say.
   void advance(World& world, ForceField& forces);

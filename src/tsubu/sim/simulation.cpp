@@ -23,7 +23,7 @@ void Simulation::advance_to(std::int64_t step) {
 
 void Simulation::particles_added(std::size_t first) {
   if (block_) {
-    block_->particles_added(world_, first);
+    block_->particles_added(world_, forces_, first);
     return;
   }
   Particles& p = world_.particles;
