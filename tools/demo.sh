@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The main job: build tsubu, rain ~1200 quartz grains of 3-10 mm into still water at a given
+# The main job: build tsubu, rain ~1260 quartz grains of 3-10 mm into still water at a given
 # flux with block steps until the deposit is 0.35 L deep (examples/sedimentation/rain.toml,
-# about 4 minutes), and draw the deposit with its porosity and grading profiles.
+# about 2.5 minutes once built), and draw the deposit with its porosity and grading profiles.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 source "$root/tools/setup.sh"
