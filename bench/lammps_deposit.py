@@ -14,8 +14,9 @@ state and run for one step.
 
 Steps: (1) single collisions in both codes (restitution of grain pairs and grain on floor);
 (2) LAMMPS neighbour skins, one run each, the fastest kept; (3) ROUNDS rounds, round r with
-seed r for both codes (round 1 is the brief's exact tsubu command), tsubu then LAMMPS, one at
-a time, one thread. Writes RESULTS/lammps-deposit.{csv,md}. Without `lmp` it says so and
+seed r for both codes (round 1 is the brief's exact tsubu command): tsubu as given, tsubu
+"lean" (no VTK frames, a one-point porosity at the rows: the work LAMMPS does), then LAMMPS,
+one at a time, one thread, each waiting (up to --wait-load s) for a quiet machine. Writes RESULTS/lammps-deposit.{csv,md}. Without `lmp` it says so and
 exits 0.
 """
 import argparse
@@ -142,7 +143,9 @@ def lammps_log(path):
     text = open(path).read()
     loops = re.findall(r'^Loop time of (\S+) on \d+ procs for (\d+) steps with (\d+) atoms', text, re.M)
     loop, steps, atoms = loops[0]
-    return {'loop_s': float(loop), 'steps': int(steps), 'atoms': int(atoms),
+    use = re.search(r'^([\d.]+)% CPU use with', text, re.M)
+    return {'loop_s': float(loop), 'loop_cpu_s': float(loop) * float(use.group(1)) / 100,
+            'steps': int(steps), 'atoms': int(atoms),
             'builds': int(re.search(r'^Neighbor list builds = (\d+)', text, re.M).group(1)),
             'dangerous': int(re.search(r'^Dangerous builds = (\d+)', text, re.M).group(1)),
             'warnings': re.findall(r'^WARNING: (.*)$', text, re.M),
@@ -334,20 +337,36 @@ def collision_check(tsubu, scenario, p, coeffs, work):
 # ---------------------------------------------------------------------------------------------
 # The deposit runs
 
-def run_tsubu(tsubu, seed, work, name):
+# tsubu's "lean" variant: what LAMMPS's run does at the rows (the deposit height that stops it)
+# and not the scenario's other output: no VTK frames, the porosity of 1 Monte Carlo point instead
+# of 65536 at every row (the final state is measured afterwards, as LAMMPS's is).
+LEAN_SETTINGS = ['output.vtk_interval=0', 'analyses.1.points=1']
+
+
+def particle_steps_from_series(path, dt):
+    """Grains in the box summed over the steps, from series.csv's rows (trapezoids between rows).
+    run.json's particle_force_evaluations counts the final grains over every step, an upper
+    bound for an inflow (about twice the true sum for a box filling at a constant rate)."""
+    rows = [(float(r['time']), float(r['particles'])) for r in csv.DictReader(open(path))]
+    return sum((n0 + n1) / 2 * round((t1 - t0) / dt) for (t0, n0), (t1, n1) in zip(rows, rows[1:]))
+
+
+def run_tsubu(tsubu, seed, lean, work, name):
     out = os.path.join(work, name)
     cmd = [tsubu, 'run', SCENARIO, '--out', out]
-    for s in TSUBU_SETTINGS + ([f'simulation.seed={seed}'] if seed != 1 else []):
+    for s in TSUBU_SETTINGS + ([f'simulation.seed={seed}'] if seed != 1 else []) + (LEAN_SETTINGS if lean else []):
         cmd += ['--set', s]
     load = load1()
     wall, cpu = timed(cmd, work, os.path.join(work, name + '.log'))
     run = json_load(os.path.join(out, 'run.json'))
     timed([tsubu, 'export', out, '--to', os.path.join(out, 'export')], work)
     (state,) = [f for f in os.listdir(os.path.join(out, 'export')) if f.startswith('particles_')]
-    return {'code': 'tsubu', 'version': f"tsubu {run['version']}", 'seed': seed, 'load_before': load,
-            'wall_s': wall, 'cpu_s': cpu, 'own_wall_s': run['wall_time_s'], 'loop_s': run['loop_time_s'],
-            'steps': run['steps'], 'simulated_s': run['steps'] * run['dt'], 'dt': run['dt'],
-            'grains_end': run['particles'], 'particle_steps': run['particle_force_evaluations'],
+    return {'code': 'tsubu-lean' if lean else 'tsubu', 'version': f"tsubu {run['version']}", 'seed': seed,
+            'load_before': load, 'wall_s': wall, 'cpu_s': cpu, 'own_wall_s': run['wall_time_s'],
+            'loop_s': run['loop_time_s'], 'steps': run['steps'], 'simulated_s': run['steps'] * run['dt'],
+            'dt': run['dt'], 'grains_end': run['particles'],
+            'particle_steps': particle_steps_from_series(os.path.join(out, 'series.csv'), run['dt']),
+            'particle_steps_run_json': run['particle_force_evaluations'],
             'list_builds': run['list_builds'], 'stop_reason': run['stop_reason'],
             'mass_flux': run['results']['inflow_F'], 'mass_flux_measured': run['results']['inflow_F_measured'],
             'own_results': {k: run['results'][k] for k in MEASURES},
@@ -366,7 +385,7 @@ def run_lammps(p, coeffs, seed, skin, work, name):
     values = {k: coeffs[k] for k in ('E', 'nu', 'eta_pair', 'E_wall', 'eta_wall', 'kt', 'xgamma', 'mu', 'every')}
     values.update(L=p['L'], top=p['top'], dt=p['dt'], steps=round(p['duration'] / p['dt']), zc=p['z_c'],
                   vz=-p['u_r'], near=p['d'], seed=1000 + seed, skin=skin, check=1, g=p['g'], row=row,
-                  slice=p['slice'], first=round(p['stop_height'] / p['slice']), last=p['slices'],
+                  slice=p['slice'], r=p['d'] / 2, first=round(p['stop_height'] / p['slice']), last=p['slices'],
                   threshold=p['threshold'], grain='grain.mol', contacts=os.path.join(INPUTS, 'contact.in'),
                   state='final.dump')
     load = load1()
@@ -382,7 +401,7 @@ def run_lammps(p, coeffs, seed, skin, work, name):
     dump = read_dump(os.path.join(folder, 'final.dump'))
     write_state(dump, os.path.join(folder, 'state.csv'))
     return {'code': 'lammps', 'version': f"LAMMPS {info['version']}", 'seed': seed, 'load_before': load,
-            'wall_s': wall, 'cpu_s': cpu, 'loop_s': info['loop_s'], 'steps': steps,
+            'wall_s': wall, 'cpu_s': cpu, 'loop_s': info['loop_s'], 'loop_cpu_s': info['loop_cpu_s'], 'steps': steps,
             'simulated_s': steps * p['dt'], 'dt': p['dt'], 'grains_end': info['atoms'],
             'particle_steps': int((steps - entries).sum()), 'list_builds': info['builds'],
             'dangerous_builds': info['dangerous'], 'warnings': info['warnings'], 'skin': skin,
@@ -394,102 +413,136 @@ def run_lammps(p, coeffs, seed, skin, work, name):
 # ---------------------------------------------------------------------------------------------
 # Output
 
-CSV_COLUMNS = ['code', 'version', 'dt', 'wall_s', 'cpu_s', 'loop_s', 'simulated_s', 'steps', 'grains_end',
-               'particle_steps_per_s', 'mass_flux_kg_s', 'deposit_height', 'porosity', 'porosity_exact',
-               'coordination', 'coordination_no_rattlers', 'coordination_no_rattlers_4', 'slab_grains', 'runs']
+CODES = {'tsubu': 'tsubu, scenario as given', 'tsubu-lean': 'tsubu, lean output', 'lammps': 'LAMMPS'}
+CSV_COLUMNS = ['code', 'variant', 'version', 'dt', 'wall_s', 'cpu_s', 'loop_s', 'simulated_s', 'steps',
+               'grains_end', 'particle_steps_per_s', 'mass_flux_kg_s', 'deposit_height', 'porosity',
+               'porosity_exact', 'coordination', 'coordination_no_rattlers', 'coordination_no_rattlers_4',
+               'slab_grains', 'runs']
+VARIANTS = {'tsubu': 'scenario as given (VTK frames, porosity of 65536 points at every 0.01 s row)',
+            'tsubu-lean': 'no VTK frames, porosity of 1 point at the rows; final state measured afterwards',
+            'lammps': 'fix deposit, neighbor bin, skin {skin:g} m, height rule at the rows'}
+AVERAGED = ['deposit_height', 'porosity', 'porosity_exact', 'coordination', 'coordination_no_rattlers',
+            'coordination_no_rattlers_4']
 
 
-def summary(runs):
+def summary(runs, best_skin):
     """One row per code: medians of the timings, means of the deposit measures over the rounds."""
     med = lambda k: statistics.median(r[k] for r in runs)
-    mean = lambda k: statistics.fmean(r['measured'][k] for r in runs)
     first = runs[0]
-    return {'code': first['code'], 'version': first['version'], 'dt': first['dt'], 'wall_s': med('wall_s'),
-            'cpu_s': med('cpu_s'), 'loop_s': med('loop_s'), 'simulated_s': med('simulated_s'),
-            'steps': med('steps'), 'grains_end': med('grains_end'),
-            'particle_steps_per_s': statistics.median(r['particle_steps'] / r['loop_s'] for r in runs),
-            'mass_flux_kg_s': first['mass_flux'], 'deposit_height': mean('deposit_height'),
-            'porosity': mean('porosity'), 'porosity_exact': mean('porosity_exact'),
-            'coordination': mean('coordination'), 'coordination_no_rattlers': mean('coordination_no_rattlers'),
-            'coordination_no_rattlers_4': mean('coordination_no_rattlers_4'),
-            'slab_grains': mean('porosity_grains'), 'runs': len(runs)}
+    row = {'code': first['code'].split('-')[0], 'variant': VARIANTS[first['code']].format(skin=best_skin),
+           'version': first['version'], 'dt': first['dt'], 'wall_s': med('wall_s'), 'cpu_s': med('cpu_s'),
+           'loop_s': med('loop_s'), 'simulated_s': med('simulated_s'), 'steps': med('steps'),
+           'grains_end': med('grains_end'),
+           'particle_steps_per_s': statistics.median(r['particle_steps'] / r['loop_s'] for r in runs),
+           'mass_flux_kg_s': first['mass_flux'],
+           'slab_grains': statistics.fmean(r['measured']['porosity_grains'] for r in runs), 'runs': len(runs)}
+    for k in AVERAGED:
+        row[k] = statistics.fmean(r['measured'][k] for r in runs)
+    return row
 
 
-def g4(v):
-    return f'{v:.4g}' if isinstance(v, float) else str(v)
+def spread(runs, key, digits):
+    values = [r['measured'][key] for r in runs]
+    return f"{statistics.fmean(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
 
 
-def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, loads, tsubu_commit, remeasure):
+def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, startup, tsubu_commit, remeasure):
     os.makedirs(results, exist_ok=True)
-    rows = [summary([r for r in rounds if r['code'] == c]) for c in ('tsubu', 'lammps')]
+    by_code = {c: [r for r in rounds if r['code'] == c] for c in CODES}
+    rows = {c: summary(runs, best_skin) for c, runs in by_code.items()}
     with open(os.path.join(results, 'lammps-deposit.csv'), 'w', newline='') as f:
         w = csv.DictWriter(f, fieldnames=CSV_COLUMNS)
         w.writeheader()
-        for r in rows:
+        for r in rows.values():
             w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    ts, lm = rows
+    ts, lean, lm = rows['tsubu'], rows['tsubu-lean'], rows['lammps']
     cpu = next((l.split(':', 1)[1].strip() for l in open('/proc/cpuinfo') if l.startswith('model name')),
                platform.machine())
-    busy = [l for l in loads if l > LOAD_LIMIT]
-    n_rounds = len(rounds) // 2
+    loads = [r['load_before'] for r in rounds]
+    n_rounds = len(by_code['lammps'])
     md = []
     add = md.append
     add('# LAMMPS against tsubu: a deposit in vacuum at the same mass flux\n')
     add(f'Issue #12 ("Cost"). Measured {datetime.date.today()} by `bench/lammps_deposit.py` on {cpu}, '
-        f'{os.cpu_count()} cores, one thread each (`OMP_NUM_THREADS=1`), each run alone, '
-        f'{n_rounds} rounds (round r: seed r for both codes; tsubu first, then LAMMPS with the same rule). '
-        f'tsubu binary: `build/tsubu` of commit {tsubu_commit[:10]}.\n')
+        f'{os.cpu_count()} cores, one thread each (`OMP_NUM_THREADS=1`), each run alone, {n_rounds} rounds; '
+        f'round r uses seed r in both codes (round 1 is the brief\'s exact tsubu command) and runs tsubu, '
+        f'tsubu lean, then LAMMPS. tsubu: `build/tsubu` of commit {tsubu_commit[:10]}. Re-run: '
+        '`TSUBU=build/tsubu /usr/bin/python3 bench/lammps_deposit.py` (about 2 minutes on an idle machine).\n')
+    busy = [l for l in loads if l > LOAD_LIMIT]
     if busy:
-        add(f'**The machine was busy**: the one-minute load average before the timed runs was '
-            f'{min(loads):.2f}-{max(loads):.2f} (above {LOAD_LIMIT} before {len(busy)} of {len(loads)} runs; '
-            f'other jobs share the 2 cores). Wall times are inflated and noisy; the CPU times '
-            f'(user + system of each process) are the steadier measure.\n')
+        add(f'**The machine was busy**: other jobs shared the 2 cores, and the one-minute load average '
+            f'before the timed runs was {min(loads):.2f}-{max(loads):.2f} (above {LOAD_LIMIT} before '
+            f'{len(busy)} of {len(loads)} runs). Wall and loop times are inflated and noisy; the CPU '
+            f'times (user + system of each process) are the steadier measure.\n')
     else:
-        add(f'Load before the timed runs: {min(loads):.2f}-{max(loads):.2f} (one-minute average, '
-            f'below {LOAD_LIMIT} each time).\n')
+        add(f'Load before the timed runs: {min(loads):.2f}-{max(loads):.2f} (one-minute average, below '
+            f'{LOAD_LIMIT} each time).\n')
     add('## Result\n')
-    add('| code | version | dt (s) | wall s | CPU s | loop s | simulated s | grains at end | '
-        'particle-steps/s | deposit height (m) | porosity | porosity (exact) | Z | Z no rattlers (≥2) | '
-        'Z no rattlers (≥4) | grains in slab |')
-    add('|' + '---|' * 16)
-    for r in rows:
-        add(f"| {r['code']} | {r['version']} | {r['dt']:g} | {r['wall_s']:.2f} | {r['cpu_s']:.2f} | "
-            f"{r['loop_s']:.2f} | {r['simulated_s']:.3f} | {r['grains_end']:.0f} | {r['particle_steps_per_s']:.3g} | "
+    add('| run | wall s | CPU s | loop s | simulated s | steps | grains at end | particle-steps/s (loop) | '
+        'deposit height (m) | porosity | porosity (exact) | Z | Z no rattlers (≥2) | Z no rattlers (≥4) | '
+        'grains in slab |')
+    add('|' + '---|' * 15)
+    for c, r in rows.items():
+        add(f"| {CODES[c]} | {r['wall_s']:.2f} | {r['cpu_s']:.2f} | {r['loop_s']:.2f} | {r['simulated_s']:.3f} | "
+            f"{r['steps']:.0f} | {r['grains_end']:.0f} | {r['particle_steps_per_s']:.3g} | "
             f"{r['deposit_height']:.4g} | {r['porosity']:.3f} | {r['porosity_exact']:.3f} | "
             f"{r['coordination']:.2f} | {r['coordination_no_rattlers']:.2f} | "
             f"{r['coordination_no_rattlers_4']:.2f} | {r['slab_grains']:.0f} |")
     add('')
-    add(f"Medians over the rounds for the times, means for the deposit measures. Ratios LAMMPS / tsubu: "
-        f"wall time {lm['wall_s'] / ts['wall_s']:.2f}, CPU time {lm['cpu_s'] / ts['cpu_s']:.2f}, "
-        f"loop time {lm['loop_s'] / ts['loop_s']:.2f}; particle-steps per second (loop) tsubu / LAMMPS "
-        f"{ts['particle_steps_per_s'] / lm['particle_steps_per_s']:.2f}.\n")
-    add('- *wall s*: the process from start to exit, timed by the script (start-up, MPI initialisation for '
-        'LAMMPS, the final dump or tsubu\'s output included); *CPU s*: user + system time of that process; '
-        '*loop s*: each code\'s own timer of its time loop (LAMMPS "Loop time", tsubu `loop_time_s`).')
-    add('- *particle-steps/s*: grains in the box summed over the steps, over the loop time (tsubu: '
-        '`particle_force_evaluations`; LAMMPS: from its insertion schedule, checked against its final count).')
-    add('- tsubu\'s loop includes what its scenario asks at every 0.01 s row: the deposit height that '
-        'stops it, the porosity (65536 Monte Carlo points), the coordination and a VTK frame every 0.05 s. '
-        'LAMMPS checks only the deposit height at the rows and dumps once, after the loop.')
-    add('- Porosity and Z: tsubu\'s own analyses on both final states, on 0.15 L < z < 0.35 L '
+    add(f"Medians over the {n_rounds} rounds for times and counts, means for the deposit measures "
+        f"(`lammps-deposit.csv`: the same rows). Versions: {ts['version']}, {lm['version']}; dt = "
+        f"{p['dt']:g} s for both.\n")
+    add('| LAMMPS / tsubu | wall | CPU | loop | particle-steps/s |')
+    add('|---|---|---|---|---|')
+    for name, t in (('scenario as given', ts), ('lean output', lean)):
+        add(f"| tsubu {name} | {lm['wall_s'] / t['wall_s']:.2f} | {lm['cpu_s'] / t['cpu_s']:.2f} | "
+            f"{lm['loop_s'] / t['loop_s']:.2f} | {lm['particle_steps_per_s'] / t['particle_steps_per_s']:.2f} |")
+    add('')
+    add('- *wall s*: the process from start to exit, timed by the script; *CPU s*: user + system time of '
+        'that process; *loop s*: each code\'s own timer of its time loop (LAMMPS "Loop time", tsubu '
+        f"`loop_time_s`). LAMMPS's wall time includes its start-up: an empty input takes "
+        f"{statistics.median(startup):.2f} s of wall time here (MPI initialisation), most of the gap "
+        'between its wall and loop times.')
+    add('- *particle-steps/s*: grains in the box summed over the steps, over the loop time (tsubu: from '
+        '`series.csv`\'s grain counts every 0.01 s; LAMMPS: from its insertion schedule, checked against '
+        'its final count). tsubu\'s own `run.json` `particle_steps_per_second` counts the final grains '
+        f"over every step, an upper bound for an inflow: {statistics.median(r['particle_steps_run_json'] / r['loop_s'] for r in by_code['tsubu']):.3g} "
+        'for the run as given.')
+    add('- *tsubu, scenario as given* does at every 0.01 s row what its scenario asks: the deposit height '
+        '(which stops it), the porosity of 65536 Monte Carlo points, the coordination, and a VTK frame '
+        'with the contact network every 0.05 s. *tsubu, lean output* (`' + "`, `".join(f"--set {x}" for x in LEAN_SETTINGS)
+        + '`) does what the LAMMPS run does: the deposit height at the rows, no frames; its deposit is '
+        + ('the same, bit for bit (identical final state in every round)' if all(r['same_state'] for r in by_code['tsubu-lean'])
+           else '**not** always bit-identical to the full run\'s') + ', measured afterwards like LAMMPS\'s.')
+    add('- Porosity and Z: tsubu\'s own analyses on the final states, on 0.15 L < z < 0.35 L '
         f"({0.15 * p['L']:g}-{0.35 * p['L']:g} m); Z counts grain-grain contacts (floor excluded), the no-rattler "
-        'variants leave out grains with fewer than 2 or 4 contacts.\n')
+        'variants leave out grains with fewer than 2 or 4 contacts. Mean (range) over the rounds:\n')
+    add('| run | porosity | porosity (exact) | Z | Z ≥2 | Z ≥4 | stop time (s) |')
+    add('|---|---|---|---|---|---|---|')
+    for c in ('tsubu', 'lammps'):
+        runs = by_code[c]
+        times = [r['simulated_s'] for r in runs]
+        add(f"| {CODES[c]} | {spread(runs, 'porosity', 3)} | {spread(runs, 'porosity_exact', 3)} | "
+            f"{spread(runs, 'coordination', 2)} | {spread(runs, 'coordination_no_rattlers', 2)} | "
+            f"{spread(runs, 'coordination_no_rattlers_4', 2)} | {statistics.fmean(times):.3f} "
+            f"({min(times):.2f}-{max(times):.2f}) |")
+    add('')
     add('### Every run\n')
-    add('| round | code | seed | load before | wall s | CPU s | loop s | steps | stop | grains | height (m) | '
+    add('| round (seed) | run | load before | wall s | CPU s | loop s | steps | grains | height (m) | '
         'porosity | Z | Z ≥2 | Z ≥4 | slab grains |')
-    add('|' + '---|' * 16)
+    add('|' + '---|' * 14)
     for i, r in enumerate(rounds):
         m = r['measured']
-        add(f"| {i // 2 + 1} | {r['code']} | {r['seed']} | {r['load_before']:.2f} | {r['wall_s']:.2f} | "
-            f"{r['cpu_s']:.2f} | {r['loop_s']:.2f} | {r['steps']} | t = {r['simulated_s']:.2f} s | "
-            f"{r['grains_end']} | {m['deposit_height']:.3g} | {m['porosity']:.3f} | {m['coordination']:.2f} | "
+        add(f"| {r['seed']} | {CODES[r['code']]} | {r['load_before']:.2f} | {r['wall_s']:.2f} | "
+            f"{r['cpu_s']:.2f} | {r['loop_s']:.2f} | {r['steps']} | {r['grains_end']} | "
+            f"{m['deposit_height']:.3g} | {m['porosity']:.3f} | {m['coordination']:.2f} | "
             f"{m['coordination_no_rattlers']:.2f} | {m['coordination_no_rattlers_4']:.2f} | "
             f"{m['porosity_grains']} |")
     add('')
-    add('tsubu\'s row is its run\'s own `run.json` results. The same measurement procedure as for LAMMPS '
-        '(`tsubu export` of the final checkpoint, one step as `source = "file"`) applied to tsubu\'s '
-        'own final state gives:\n')
-    add('| round | porosity run / re-measured | porosity_exact | Z | Z ≥2 | Z ≥4 |')
+    add('Checks of the measurement. (a) The procedure used for LAMMPS (`tsubu export` of the final '
+        'checkpoint, one step as `source = "file"`, no inflow) applied to tsubu\'s own final state '
+        'against the run\'s own `run.json` results:\n')
+    add('| round | porosity run / re-measured | porosity (exact) | Z | Z ≥2 | Z ≥4 |')
     add('|---|---|---|---|---|---|')
     for i, (own, again) in enumerate(remeasure):
         add(f"| {i + 1} | {own['porosity']:.4f} / {again['porosity']:.4f} | {own['porosity_exact']:.4f} / "
@@ -497,81 +550,88 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, load
             f"{own['coordination_no_rattlers']:.3f} / {again['coordination_no_rattlers']:.3f} | "
             f"{own['coordination_no_rattlers_4']:.3f} / {again['coordination_no_rattlers_4']:.3f} |")
     add('')
-    add('Contact detection on the LAMMPS states (a loaded deposit must have overlaps): an independent '
-        'count of touching pairs by the script (centre distance below the sum of radii, periodic x, y) '
-        'against tsubu\'s coordination after its one step:\n')
-    add('| round | overlapping pairs | largest overlap / d | Z script / tsubu | Z ≥2 script / tsubu | Z ≥4 script / tsubu |')
+    add('(b) Contact detection on the LAMMPS states (a loaded deposit must show overlaps): an independent '
+        'count by the script of touching grain pairs (centre distance below the sum of radii, x and y '
+        'periodic) on the dumped state, against tsubu\'s coordination after its one step:\n')
+    add('| round | overlapping pairs | largest overlap / d | Z script / tsubu | Z ≥2 script / tsubu | '
+        'Z ≥4 script / tsubu |')
     add('|---|---|---|---|---|---|')
-    for i, r in enumerate(x for x in rounds if x['code'] == 'lammps'):
+    for r in by_code['lammps']:
         c, m = r['geometric'], r['measured']
-        add(f"| {i + 1} | {c['pairs']} | {c['max_overlap_ratio']:.2e} | {c['Z']:.3f} / {m['coordination']:.3f} | "
+        add(f"| {r['seed']} | {c['pairs']} | {c['max_overlap_ratio']:.2e} | {c['Z']:.3f} / {m['coordination']:.3f} | "
             f"{c['Z_no_rattlers']:.3f} / {m['coordination_no_rattlers']:.3f} | "
             f"{c['Z_no_rattlers_4']:.3f} / {m['coordination_no_rattlers_4']:.3f} |")
     add('')
     add('## Settings\n')
     add(f"Grains: d = {p['d']:g} m, rho = {p['rho']:g} kg/m3 (m = {p['mass']:.6g} kg), E = {p['E']:g} Pa, "
         f"nu = {p['nu']:g}; box {p['L']:g} x {p['L']:g} x {p['top']:g} m (L = {p['L'] / p['d']:g} d), periodic "
-        f"in x and y, floor z = 0 of the same material, gravity {p['g']:g} m/s2, vacuum. Entry plane "
-        f"z_c = {p['z_c']:g} m (2 L), fall speed {p['u_r']:g} m/s, stop when the deposit height (the largest "
-        f"k <= {p['slices']} with solid fraction of 0 < z < k {p['slice']:g} m above {p['threshold']:g}) reaches "
-        f"{p['stop_height']:g} m (0.4 L), checked every {p['series_interval']:g} s. Time step {p['dt']:g} s, "
-        'velocity Verlet in both (LAMMPS `fix nve/sphere`; tsubu evaluates velocity-dependent forces with the '
-        'half-step velocity as LAMMPS does); the scenario\'s step, not LAMMPS\'s largest stable one, so that '
-        'both integrate the same contacts alike (it is about 1/50 of a Hertz contact time at 0.7 m/s).\n')
-    add(f"**tsubu**: `OMP_NUM_THREADS=1 build/tsubu run examples/sedimentation/mono-vacuum.toml --out OUT "
-        + ' '.join(f"--set '{s}'" for s in TSUBU_SETTINGS) + "` (rounds 2+ add `--set simulation.seed=r`); "
-        'linked-cell search, its default skin d/10.\n')
-    add(f"**LAMMPS**: `bench/lammps/deposit.in` with `bench/lammps/contact.in`: `atom_style sphere`, "
-        f"`pair_style granular`, `fix wall/gran granular` at z = 0, `fix deposit`, `fix nve/sphere`, "
-        f"`fix gravity`, `newton off`, `comm_modify vel yes`; thermo only at the end, one `write_dump` after "
-        f"the run. Neighbour list: `neighbor SKIN bin`, `neigh_modify delay 0 every 1 check yes`; skins tried "
-        f"(one full run each, seed 1, loop time): "
-        + ', '.join(f"{s * 1e3:g} mm: {t:.2f} s" for s, t in skins)
-        + f"; kept {best_skin * 1e3:g} mm. (`bin` is the style for one grain size; `multi` only helps with "
-        'size ratios.)\n')
+        f"in x and y, a floor at z = 0 of the same material, gravity {p['g']:g} m/s2, vacuum. Entry plane "
+        f"z_c = {p['z_c']:g} m (2 L), fall speed {p['u_r']:g} m/s. Both stop by tsubu's rule, checked every "
+        f"{p['series_interval']:g} s: the deposit height, the largest k <= {p['slices']} for which the solid "
+        f"fraction of 0 < z < k {p['slice']:g} m exceeds {p['threshold']:g}, times {p['slice']:g} m, has reached "
+        f"{p['stop_height']:g} m (0.4 L). In LAMMPS: `fix halt` every {round(p['series_interval'] / p['dt'])} "
+        'steps on an equal-style variable built from per-atom sphere-cap volumes (exact sphere-slab volumes, '
+        'as tsubu\'s), see `deposit.in`. Time step '
+        f"{p['dt']:g} s, velocity Verlet in both (LAMMPS `fix nve/sphere`; tsubu evaluates velocity-dependent "
+        'forces with the half-step velocity as LAMMPS does): the scenario\'s step, about 1/50 of a Hertz '
+        'contact time at 0.7 m/s, not LAMMPS\'s largest stable one, so that both integrate the same contacts '
+        'alike.\n')
+    add("**tsubu**: `OMP_NUM_THREADS=1 build/tsubu run examples/sedimentation/mono-vacuum.toml --out OUT "
+        + ' '.join(f"--set '{x}'" for x in TSUBU_SETTINGS) + "` (rounds 2+ add `--set simulation.seed=r`); "
+        'linked-cell search with its default skin d/10.\n')
+    add("**LAMMPS**: `bench/lammps/deposit.in` with `bench/lammps/contact.in`: `atom_style sphere`, "
+        "`pair_style granular`, `fix wall/gran granular` at z = 0, `fix deposit`, `fix nve/sphere`, "
+        "`fix gravity`, `newton off`, `comm_modify vel yes`; thermo only at the end, one `write_dump` after "
+        "the run. Neighbour list `neighbor SKIN bin`, `neigh_modify delay 0 every 1 check yes`; skins tried "
+        "(seed 1, the faster of two runs each; loop time, and loop CPU time = loop time x LAMMPS's CPU use, "
+        "which ranks them): " + ', '.join(f"{sk * 1e3:g} mm: {t:.2f} s / {c:.2f} s" for sk, t, c in skins)
+        + f"; kept {best_skin * 1e3:g} mm. `bin` is the style for one grain size (`multi` helps only with "
+        'size ratios); `newton on` gave no gain in a trial.\n')
     add('### How the mass flux was matched\n')
-    add(f"tsubu's inflow releases a random column of solid fraction phi_0 = {p['phi_0']:g} falling at u_r "
+    flux = lambda c: statistics.fmean(r['mass_flux_measured'] for r in by_code[c])
+    add(f"tsubu's inflow lets a random column of solid fraction phi_0 = {p['phi_0']:g}, falling at u_r, "
         f"through the entry plane: F = rho phi_0 L^2 u_r = {p['F']:.5g} kg/s "
         f"({p['F'] / p['mass']:.1f} grains/s), each grain entering at z_c with velocity -u_r. LAMMPS's "
         f"`fix deposit` inserts one grain (a one-atom molecule template carrying d and m) every "
-        f"N = round(m / (F dt)) = {coeffs['every']} steps at a random x, y on the plane z = z_c, velocity "
-        f"-u_r, at least d from every grain already there (so the grains enter without overlap, as "
+        f"N = round(m / (F dt)) = {coeffs['every']} steps at a random x, y on the plane z = z_c with velocity "
+        f"-u_r, at least d from every grain already in the box (so grains enter without overlap, as "
         f"tsubu's column guarantees): F = m / (N dt) = {coeffs['F_lammps']:.5g} kg/s "
-        f"({(coeffs['F_lammps'] / p['F'] - 1) * 100:+.2f} %). The grains in the box at the stop over the "
-        f"stop time: tsubu {statistics.fmean(r['mass_flux_measured'] for r in rounds if r['code'] == 'tsubu'):.4g}, "
-        f"LAMMPS {statistics.fmean(r['mass_flux_measured'] for r in rounds if r['code'] == 'lammps'):.4g} kg/s "
-        '(means; tsubu\'s column is random, LAMMPS\'s schedule regular). `fix pour` was not used: it '
-        'inserts batches at intervals set by the fall time through its region, a pulsed flux, where tsubu\'s '
-        'is steady. tsubu also gives each grain a small random spin (Omega*_rms = '
-        f"{p['omega_star_rms']:g}, about {2 * p['u_r'] * p['omega_star_rms'] / p['d']:.2g} rad/s); LAMMPS none.\n")
+        f"({(coeffs['F_lammps'] / p['F'] - 1) * 100:+.2f} %). Mass in the box at the stop over the stop "
+        f"time, mean of the rounds: tsubu {flux('tsubu'):.4g}, LAMMPS {flux('lammps'):.4g} kg/s (tsubu's "
+        "arrivals are random, LAMMPS's regular). `fix pour` was not used: it inserts batches at intervals "
+        "set by the fall time through its region, a pulsed flux, where tsubu's is steady. tsubu also gives "
+        f"each grain a small random spin (Omega*_rms = {p['omega_star_rms']:g}, about "
+        f"{2 * p['u_r'] * p['omega_star_rms'] / p['d']:.2g} rad/s); LAMMPS none.\n")
     add('### How the contact models were matched\n')
     add('tsubu: `hertz_sediment` (model H) F_n = K delta^1.5 - eta_n v_n, K = 4/3 E* sqrt(R*), '
         f"eta_n = alpha sqrt(K m* dbar^0.5) (alpha = {p['alpha']:g}), a constant dashpot; `mindlin` "
-        'tangential: spring xi capped at xi_max = mu (2-nu)/(2(1-nu)) delta, '
+        'tangential: the spring xi is capped at xi_max = mu (2-nu)/(2(1-nu)) delta and '
         'F_t = -mu chi |F_n| xi/|xi| - eta_t v_t with chi = 1 - (1 - |xi|/xi_max)^1.5, '
         'eta_t = eta_n / sqrt(2(1-nu)).\n')
     add('LAMMPS (`pair_style granular`, and the same in `fix wall/gran granular`):\n')
-    add(f"- normal `hertz/material E nu` with **`damping velocity`**: the dashpot is the given constant, "
-        f"so tsubu's eta_n is given directly: {coeffs['eta_pair']:.5g} kg/s for a grain pair (R* = d/4, "
-        f"m* = m/2, dbar = d) and {coeffs['eta_wall']:.5g} kg/s on the floor (R* = d/2, m* = m). The other "
-        'damping models scale with the overlap (`viscoelastic`, `tsuji`) or the mass (`mass_velocity`) '
-        'and cannot give a constant dashpot; `tsuji` is tsubu\'s `hertz_tsuji`, not model H. The normal '
-        'force is then the same function of overlap and approach speed in both codes.')
+    add(f"- normal `hertz/material E nu` with **`damping velocity`**, whose dashpot is the constant "
+        f"given: tsubu's eta_n goes in directly, {coeffs['eta_pair']:.5g} kg/s for a grain pair (R* = d/4, "
+        f"m* = m/2, dbar = d) and {coeffs['eta_wall']:.5g} kg/s on the floor (R* = d/2, m* = m, dbar = d). "
+        'The other damping models scale with the overlap (`viscoelastic`, `tsuji`) or the mass '
+        '(`mass_velocity`) and cannot give model H\'s constant dashpot (`tsuji` is tsubu\'s `hertz_tsuji`). '
+        'The normal force is then the same function of overlap and approach speed in both codes, '
+        'attraction at the end of a contact included (neither clamps F_n at 0).')
     add(f"- the floor: this LAMMPS version's `fix wall/gran` takes 4/3 E/(2(1-nu)) as its 4/3 E*, not "
-        f"E/(2(1-nu^2)) as for a pair of the same material (the quirk noted in ../shared/bench/lammps/bench_lmp.in), "
-        f"so the wall is given E/(1+nu) = {coeffs['E_wall']:.5g} Pa to get tsubu's grain-floor stiffness.")
+        f"E/(2(1-nu^2)) as for two grains of one material (the quirk noted in "
+        f"../shared/bench/lammps/bench_lmp.in), so the wall is given E/(1+nu) = {coeffs['E_wall']:.5g} Pa, "
+        "which makes its grain-floor stiffness tsubu's (the floor collisions below confirm it).")
     add(f"- tangential `mindlin kt xgamma mu` with kt = 8 G* = 2E/((1+nu)(2-nu)) = {coeffs['kt']:.5g} Pa "
-        f"(times the contact radius a = sqrt(R* delta)): the initial slope of tsubu's chi law, "
-        f"3/2 mu |F_n| / xi_max, is the same 8 G* a. xgamma = 1/sqrt(2(1-nu)) = {coeffs['xgamma']:.5g} "
-        'makes the tangential dashpot tsubu\'s. What differs: LAMMPS\'s spring is linear up to '
-        'mu |F_n| (it slips at 2/3 of tsubu\'s xi_max, tsubu\'s force bends over before), and LAMMPS caps '
-        'spring plus dashpot at mu |F_n| where tsubu caps the spring and adds the dashpot. Given '
-        'explicitly because `NULL` in this version\'s `fix wall/gran` computes another value. No rolling '
-        'or twisting resistance in either.\n')
-    add('Restitution and rebound of single collisions, no gravity (the script runs them in both codes; '
-        'e = normal speed out / in):\n')
-    add('| collision | speed (m/s) | e tsubu | e LAMMPS | tangential speed kept, tsubu / LAMMPS | '
-        'R omega / tangential speed in, tsubu / LAMMPS |')
+        f"(LAMMPS multiplies it by the contact radius a = sqrt(R* delta)): the initial slope of tsubu's chi "
+        f"law, 3/2 mu |F_n| / xi_max, is the same 8 G* a. xgamma = 1/sqrt(2(1-nu)) = {coeffs['xgamma']:.5g} "
+        'makes the tangential dashpot tsubu\'s (kt is given explicitly, the same for grain pairs and the '
+        'floor, not left to `NULL`). What differs: LAMMPS\'s spring stays linear up to '
+        'mu |F_n| (it slips at 2/3 of tsubu\'s xi_max; tsubu\'s force bends over before), and LAMMPS caps '
+        'spring plus dashpot at mu |F_n| where tsubu caps the spring and adds the dashpot. Neither has '
+        'rolling or twisting resistance.\n')
+    add('Single collisions, no gravity, run by the script in both codes (e = normal speed out / in; at 45° '
+        'also the tangential speed kept and the spin R omega, over the tangential speed in):\n')
+    add('| collision | speed (m/s) | e tsubu | e LAMMPS | tangential kept, tsubu / LAMMPS | '
+        'R omega / tangential in, tsubu / LAMMPS |')
     add('|---|---|---|---|---|---|')
     names = {'pair': 'grain pair, head-on', 'floor': 'grain on floor, normal', 'floor45': 'grain on floor, 45°'}
     for c in collisions:
@@ -579,21 +639,28 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, load
             if 'vt_tsubu' in c else ('', '')
         add(f"| {names[c['kind']]} | {c['speed']:g} | {c['e_tsubu']:.5f} | {c['e_lammps']:.5f} | {tang[0]} | {tang[1]} |")
     add('')
-    add('With a constant dashpot the restitution falls as the impact speed grows (the Hertz spring '
-        'stiffens, the dashpot does not): the values above are model H\'s, not a fixed e.\n')
+    worst = max(abs(c['e_tsubu'] - c['e_lammps']) for c in collisions)
+    add(f"The normal restitutions agree to {worst:.1e}: the normal law is the same. With a constant "
+        'dashpot, restitution is not a parameter: it rises with the impact speed (the Hertz spring '
+        'stiffens with the overlap, the dashpot does not), and alpha = 0.2 makes these grains very '
+        'inelastic (e of about 0.06-0.23 at 0.33-1.8 m/s). The oblique impacts differ by a few per cent in '
+        'the tangential rebound, the tangential laws\' difference.\n')
     add('## What differs\n')
     add('- Insertion: tsubu\'s grains come from a random column (irregular arrival times, a little spin); '
-        'LAMMPS\'s arrive one every N steps at random positions on the entry plane, no spin. Same flux, '
-        'same entry height and speed.')
-    add('- Tangential law (above): linear spring with a total cap (LAMMPS) against Mindlin\'s softening '
-        'spring with the dashpot outside the cap (tsubu). Normal law and dashpots are the same.')
-    add('- The deposits are random and small (about 120 grains in the measured slab) and still '
-        'dynamic at the stop (grains keep landing at about 1.8 m/s): porosity and Z fluctuate from '
-        'row to row and from seed to seed; compare the spread over the rounds, not single digits.')
-    add('- What the timed loops contain (see above): tsubu\'s scenario measures porosity and '
-        'coordination at every row and writes VTK frames; LAMMPS does not.')
-    if any(r.get('warnings') for r in rounds):
-        add('- LAMMPS warnings: ' + '; '.join(sorted({w for r in rounds for w in r.get('warnings', [])})))
+        'LAMMPS\'s arrive one every N steps at random positions on the entry plane, without spin. Same '
+        'flux, entry height and speed.')
+    add('- The tangential law (above); the normal law and both dashpots are the same.')
+    add('- The deposits are small (about 120 grains in the measured slab) and still dynamic at the stop '
+        '(grains keep landing at about 1.8 m/s): porosity and Z change from row to row and from seed to '
+        'seed. Compare the ranges over the rounds, not single digits.')
+    add('- The timed work: tsubu as given measures porosity and coordination at every row and writes VTK '
+        'frames, which LAMMPS does not do; the lean tsubu run removes that difference.')
+    warnings = sorted({w for r in by_code['lammps'] for w in r.get('warnings', [])})
+    if warnings:
+        add('- LAMMPS warnings: ' + '; '.join(warnings))
+    dangerous = sum(r['dangerous_builds'] for r in by_code['lammps'])
+    add(f"- LAMMPS neighbour lists: {statistics.median(r['list_builds'] for r in by_code['lammps']):.0f} builds "
+        f"(median), {dangerous} dangerous; tsubu: {statistics.median(r['list_builds'] for r in by_code['tsubu']):.0f}.")
     add('')
     open(os.path.join(results, 'lammps-deposit.md'), 'w').write('\n'.join(md))
 
@@ -612,7 +679,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--rounds', type=int, default=3)
     ap.add_argument('--skins', default='0.25e-3,0.5e-3,1e-3,2e-3,4e-3', help='LAMMPS neighbour skins to try, m')
-    ap.add_argument('--wait-load', type=float, default=300, help='seconds to wait for a quiet machine')
+    ap.add_argument('--wait-load', type=float, default=120,
+                    help='before each timed run, seconds to wait at most for a quiet machine')
     ap.add_argument('--tsubu', default=os.environ.get('TSUBU', os.path.join(ROOT, 'build', 'tsubu')))
     ap.add_argument('--results', default=os.path.join(HERE, 'results'))
     ap.add_argument('--work', help='keep the runs in this folder (default: a temporary one)')
@@ -636,33 +704,47 @@ def main():
 
     skins = []
     for skin in (float(s) for s in args.skins.split(',')):
-        r = run_lammps(p, coeffs, 1, skin, work, f'skin-{skin:g}')
-        skins.append((skin, r['loop_s']))
-        print(f"LAMMPS skin {skin:g} m: loop {r['loop_s']:.2f} s, {r['list_builds']} builds "
-              f"({r['dangerous_builds']} dangerous)", flush=True)
-    best_skin = min(skins, key=lambda s: s[1])[0]
+        tries = []
+        for n in range(2):
+            wait_for_quiet(args.wait_load)
+            tries.append(run_lammps(p, coeffs, 1, skin, work, f'skin-{skin:g}-{n}'))
+        r = min(tries, key=lambda t: t['loop_cpu_s'])
+        skins.append((skin, r['loop_s'], r['loop_cpu_s']))
+        print(f"LAMMPS skin {skin:g} m: loop {r['loop_s']:.2f} s (CPU {r['loop_cpu_s']:.2f} s), "
+              f"{r['list_builds']} builds ({r['dangerous_builds']} dangerous)", flush=True)
+    best_skin = min(skins, key=lambda s: s[2])[0]
 
-    rounds, loads, remeasure = [], [], []
+    startup = []  # LAMMPS's process start-up and exit alone (MPI initialisation): an empty input
+    open(os.path.join(work, 'empty.in'), 'w').write('')
+    for _ in range(3):
+        startup.append(timed(['lmp', '-nocite', '-log', 'none', '-in', 'empty.in'], work)[0])
+
+    rounds, remeasure = [], []
     for seed in range(1, args.rounds + 1):
-        loads.append(wait_for_quiet(args.wait_load))
-        ts = run_tsubu(args.tsubu, seed, work, f'tsubu-{seed}')
+        wait_for_quiet(args.wait_load)
+        ts = run_tsubu(args.tsubu, seed, False, work, f'tsubu-{seed}')
         ts['measured'] = ts['own_results']
         remeasure.append((ts['own_results'], tsubu_measure(args.tsubu, scenario, p, ts['state_csv'], work,
                                                            f'remeasure-{seed}')))
-        loads.append(wait_for_quiet(args.wait_load))
+        wait_for_quiet(args.wait_load)
+        lean = run_tsubu(args.tsubu, seed, True, work, f'tsubu-lean-{seed}')
+        lean['same_state'] = open(lean['state_csv']).read() == open(ts['state_csv']).read()
+        lean['measured'] = tsubu_measure(args.tsubu, scenario, p, lean['state_csv'], work, f'measure-lean-{seed}')
+        wait_for_quiet(args.wait_load)
         lm = run_lammps(p, coeffs, seed, best_skin, work, f'lammps-{seed}')
         lm['measured'] = tsubu_measure(args.tsubu, scenario, p, lm['state_csv'], work, f'measure-{seed}')
         dump = lm.pop('dump')
         lm['geometric'] = geometric_contacts(dump['x'], dump['y'], dump['z'], dump['radius'], p['L'],
                                              (0.15 * p['L'], 0.35 * p['L']))
-        rounds += [ts, lm]
-        for r in (ts, lm):
+        rounds += [ts, lean, lm]
+        for r in (ts, lean, lm):
             m = r['measured']
-            print(f"round {seed} {r['code']:6s}: wall {r['wall_s']:.2f} s, CPU {r['cpu_s']:.2f} s, loop "
-                  f"{r['loop_s']:.2f} s, t = {r['simulated_s']:.2f} s, {r['grains_end']} grains, height "
-                  f"{m['deposit_height']:.3g}, porosity {m['porosity']:.3f}, Z {m['coordination']:.2f} / "
-                  f"{m['coordination_no_rattlers']:.2f} / {m['coordination_no_rattlers_4']:.2f}", flush=True)
-    write_results(args.results, p, coeffs, collisions, skins, best_skin, rounds, loads, tsubu_commit, remeasure)
+            print(f"round {seed} {r['code']:10s}: load {r['load_before']:.2f}, wall {r['wall_s']:.2f} s, CPU "
+                  f"{r['cpu_s']:.2f} s, loop {r['loop_s']:.2f} s, t = {r['simulated_s']:.2f} s, {r['grains_end']} "
+                  f"grains, height {m['deposit_height']:.3g}, porosity {m['porosity']:.3f}, Z "
+                  f"{m['coordination']:.2f} / {m['coordination_no_rattlers']:.2f} / "
+                  f"{m['coordination_no_rattlers_4']:.2f}", flush=True)
+    write_results(args.results, p, coeffs, collisions, skins, best_skin, rounds, startup, tsubu_commit, remeasure)
     print(f"wrote {os.path.join(args.results, 'lammps-deposit.csv')} and .md; runs in {work}")
     if not args.work:
         shutil.rmtree(work)
