@@ -22,6 +22,7 @@ exits 0.
 import argparse
 import csv
 import datetime
+import json
 import math
 import os
 import platform
@@ -227,7 +228,6 @@ def tsubu_measure(tsubu, scenario, p, state_csv, work, name, seed):
 
 
 def json_load(path):
-    import json
     return json.load(open(path))
 
 
@@ -481,7 +481,10 @@ def spread(runs, key, digits):
     return f"{statistics.fmean(values):.{digits}f} ({min(values):.{digits}f}-{max(values):.{digits}f})"
 
 
-def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, startup, tsubu_commit, remeasure):
+WRITE_ARGS = ['p', 'coeffs', 'collisions', 'skins', 'best_skin', 'rounds', 'startup', 'tsubu_binary', 'remeasure']
+
+
+def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, startup, tsubu_binary, remeasure):
     os.makedirs(results, exist_ok=True)
     by_code = {c: [r for r in rounds if r['code'] == c] for c in CODES}
     rows = {c: summary(runs, best_skin) for c, runs in by_code.items()}
@@ -501,17 +504,22 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, star
     add(f'Issue #12 ("Cost"). Measured {datetime.date.today()} by `bench/lammps_deposit.py` on {cpu}, '
         f'{os.cpu_count()} cores, one thread each (`OMP_NUM_THREADS=1`), each run alone, {n_rounds} rounds; '
         f'round r uses seed r in both codes (round 1 is the brief\'s exact tsubu command) and runs tsubu, '
-        f'tsubu lean, then LAMMPS. tsubu: `build/tsubu` of commit {tsubu_commit[:10]}. Re-run: '
+        f'tsubu lean, then LAMMPS. tsubu: {tsubu_binary}. Re-run: '
         '`TSUBU=build/tsubu /usr/bin/python3 bench/lammps_deposit.py` (about 2 minutes on an idle machine).\n')
     busy = [l for l in loads if l > LOAD_LIMIT]
-    if busy:
+    if not busy:
+        add(f'Load before the timed runs: {min(loads):.2f}-{max(loads):.2f} (one-minute average, below '
+            f'{LOAD_LIMIT} each time).\n')
+    elif len(busy) * 2 < len(loads):
+        add(f'Load: the one-minute load average before the timed runs was {min(loads):.2f}-{max(loads):.2f}, '
+            f'above {LOAD_LIMIT} before {len(busy)} of {len(loads)} runs (each run\'s load is in "Every run"): '
+            'another job kept one of the 2 cores busy, the runs had the other. The medians over the rounds '
+            'damp the slow runs; the CPU times (user + system of each process) are the steadier measure.\n')
+    else:
         add(f'**The machine was busy**: other jobs shared the 2 cores, and the one-minute load average '
             f'before the timed runs was {min(loads):.2f}-{max(loads):.2f} (above {LOAD_LIMIT} before '
             f'{len(busy)} of {len(loads)} runs). Wall and loop times are inflated and noisy; the CPU '
             f'times (user + system of each process) are the steadier measure.\n')
-    else:
-        add(f'Load before the timed runs: {min(loads):.2f}-{max(loads):.2f} (one-minute average, below '
-            f'{LOAD_LIMIT} each time).\n')
     add('## Result\n')
     add('| run | wall s | CPU s | loop s | simulated s | steps | grains at end | particle-steps/s (loop) | '
         'deposit height (m) | porosity | porosity (exact) | Z | Z no rattlers (≥2) | Z no rattlers (≥4) | '
@@ -707,12 +715,19 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, star
     add('- Insertion: tsubu\'s grains come from a random column (irregular arrival times, a little spin); '
         'LAMMPS\'s arrive one every N steps at random positions on the entry plane, without spin. Same '
         'flux, entry height and speed.')
+    lm_profile = mean_profile('profile', by_code['lammps'])
+    ts_profile = mean_profile('profile_at_lammps_stop', by_code['tsubu'])
+    grains_later = statistics.fmean(r['grains_end'] for r in by_code['tsubu']) - \
+        statistics.fmean(r['grains_end'] for r in by_code['lammps'])
     add('- The tangential law (above); the normal law and both dashpots are the same. Grains landing on '
-        'the deposit meet it at every angle, and in tsubu a glancing impact cannot slide freely (the '
-        'dashpot outside the Coulomb cap). The likely reason for the profiles above: LAMMPS\'s bottom '
-        'layers pack denser and its surface is flatter, so 0 < z < 0.4 L passes the threshold with fewer '
-        'grains; the measured slab (0.15-0.35 L) has the same porosity in both, and Z is higher in LAMMPS. '
-        '(Likely, not proven: only the tangential law differs besides the insertion.)')
+        'the deposit meet it at every angle, and in tsubu a glancing impact cannot slide (its dashpot '
+        'acts beyond the Coulomb cap). This is the likely cause of the profiles above: at the same time '
+        f"LAMMPS's lowest layer packs denser ({lm_profile[0]:.3f} against {ts_profile[0]:.3f} in the first "
+        f"0.1 L) and its surface is flatter ({lm_profile[4]:.3f} against {ts_profile[4]:.3f} in 0.4-0.5 L), "
+        f"so 0 < z < 0.4 L passes {p['threshold']:g} with fewer grains: LAMMPS stops "
+        f"{t_ts - t_lm:.3f} s sooner, with {grains_later:.0f} grains fewer in the box. The measured slab "
+        '(0.15-0.35 L) has the same porosity in both, and Z is higher in LAMMPS. Likely, not proven: the '
+        'insertion differs too.')
     add('- The deposits are small (about 120 grains in the measured slab) and still dynamic at the stop '
         '(grains keep landing at about 1.8 m/s): porosity and Z change from row to row and from seed to '
         'seed. Compare the ranges over the rounds, not single digits.')
@@ -747,7 +762,12 @@ def main():
     ap.add_argument('--tsubu', default=os.environ.get('TSUBU', os.path.join(ROOT, 'build', 'tsubu')))
     ap.add_argument('--results', default=os.path.join(HERE, 'results'))
     ap.add_argument('--work', help='keep the runs in this folder (default: a temporary one)')
+    ap.add_argument('--render', metavar='RAW_JSON', help='only write the tables again from a kept raw.json')
     args = ap.parse_args()
+    if args.render:
+        raw = json.load(open(args.render))
+        write_results(args.results, **{k: raw[k] for k in WRITE_ARGS})
+        return 0
     if shutil.which('lmp') is None:
         print('lammps_deposit.py: LAMMPS (`lmp`) is not installed; nothing to compare (apt-get install lammps)')
         return 0
@@ -757,8 +777,11 @@ def main():
     p = physics(scenario)
     coeffs = lammps_coefficients(p)
     source = os.path.dirname(os.path.dirname(os.path.abspath(args.tsubu)))  # the binary's checkout
-    tsubu_commit = subprocess.run(['git', '-C', source, 'rev-parse', 'HEAD'], capture_output=True,
-                                  text=True).stdout.strip() or 'unknown'
+    head = subprocess.run(['git', '-C', source, 'rev-parse', '--short=10', 'HEAD'], capture_output=True,
+                          text=True).stdout.strip() or 'unknown'
+    built = datetime.datetime.fromtimestamp(os.path.getmtime(args.tsubu), datetime.timezone.utc)
+    tsubu_binary = (f"`{os.path.relpath(args.tsubu, source)}` built {built:%Y-%m-%d %H:%M} UTC "
+                    f"(its checkout at {head} when measured)")
 
     print('contact check: single collisions in both codes', flush=True)
     collisions = collision_check(args.tsubu, scenario, p, coeffs, work)
@@ -814,7 +837,11 @@ def main():
                   f"grains, height {m['deposit_height']:.3g}, porosity {m['porosity']:.3f}, Z "
                   f"{m['coordination']:.2f} / {m['coordination_no_rattlers']:.2f} / "
                   f"{m['coordination_no_rattlers_4']:.2f}", flush=True)
-    write_results(args.results, p, coeffs, collisions, skins, best_skin, rounds, startup, tsubu_commit, remeasure)
+    raw = dict(p=p, coeffs=coeffs, collisions=collisions, skins=skins, best_skin=best_skin, rounds=rounds,
+               startup=startup, tsubu_binary=tsubu_binary, remeasure=remeasure)
+    with open(os.path.join(work, 'raw.json'), 'w') as f:  # for --render
+        json.dump(raw, f, default=float)
+    write_results(args.results, **{k: raw[k] for k in WRITE_ARGS})
     print(f"wrote {os.path.join(args.results, 'lammps-deposit.csv')} and .md; runs in {work}")
     if not args.work:
         shutil.rmtree(work)
