@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """LAMMPS against tsubu: grains deposited in vacuum at the same mass flux (issue #12, "Cost").
 
-  /usr/bin/python3 bench/lammps_deposit.py [--rounds 3] [--skins 0.25e-3,0.5e-3,1e-3,2e-3,4e-3]
-                                          [--wait-load 300] [--work DIR] [--results DIR]
+  TSUBU=build/tsubu /usr/bin/python3 bench/lammps_deposit.py [--rounds 3] [--wait-load 120]
+      [--skins 0.25e-3,0.5e-3,1e-3,2e-3,4e-3] [--work DIR] [--results DIR] [--render DIR/raw.json]
 
 tsubu runs examples/sedimentation/mono-vacuum.toml in the L = 8 d box until the deposit is
 0.4 L high. LAMMPS (`lmp`, pair_style granular, fix deposit, fix wall/gran) pours the same
@@ -12,12 +12,14 @@ the same times (bench/lammps/deposit.in). Both final states are then measured by
 (porosity and coordination on 0.15 L < z < 0.35 L): LAMMPS's is written as a `source = "file"`
 state and run for one step.
 
-Steps: (1) single collisions in both codes (restitution of grain pairs and grain on floor);
-(2) LAMMPS neighbour skins, one run each, the fastest kept; (3) ROUNDS rounds, round r with
-seed r for both codes (round 1 is the brief's exact tsubu command): tsubu as given, tsubu
-"lean" (no VTK frames, a one-point porosity at the rows: the work LAMMPS does), then LAMMPS,
-one at a time, one thread, each waiting (up to --wait-load s) for a quiet machine. Writes RESULTS/lammps-deposit.{csv,md}. Without `lmp` it says so and
-exits 0.
+Steps: (1) single collisions in both codes (restitution and rebound, grain pairs and grains on
+the floor); (2) LAMMPS neighbour skins, two runs each, the fastest kept; (3) ROUNDS rounds,
+round r with seed r in both codes (round 1 is the brief's exact tsubu command): tsubu as
+given, tsubu "lean" (no VTK frames, a one-point porosity at the rows: the work LAMMPS does),
+LAMMPS, each alone on one thread after waiting (up to --wait-load s) for a quiet machine, then
+untimed: tsubu's deposit at LAMMPS's stop time, for the solid fraction by slab. Writes
+RESULTS/lammps-deposit.{csv,md} and keeps the raw numbers in WORK/raw.json (--render rewrites
+the tables from it). Without `lmp` it says so and exits 0.
 """
 import argparse
 import csv
@@ -449,8 +451,9 @@ def run_lammps(p, coeffs, seed, skin, work, name):
 # Output
 
 CODES = {'tsubu': 'tsubu, scenario as given', 'tsubu-lean': 'tsubu, lean output', 'lammps': 'LAMMPS'}
-CSV_COLUMNS = ['code', 'variant', 'version', 'dt', 'wall_s', 'cpu_s', 'loop_s', 'simulated_s', 'steps',
-               'grains_end', 'particle_steps_per_s', 'mass_flux_kg_s', 'deposit_height', 'porosity',
+CSV_COLUMNS = ['code', 'variant', 'version', 'dt', 'wall_s', 'cpu_s', 'loop_s', 'wall_s_median', 'cpu_s_median',
+               'loop_s_median', 'simulated_s', 'steps', 'grains_end', 'particle_steps_per_s',
+               'particle_steps_per_s_median', 'mass_flux_kg_s', 'deposit_height', 'porosity',
                'porosity_exact', 'coordination', 'coordination_no_rattlers', 'coordination_no_rattlers_4',
                'slab_grains', 'runs']
 VARIANTS = {'tsubu': 'scenario as given (VTK frames, porosity of 65536 points at every 0.01 s row)',
@@ -461,16 +464,19 @@ AVERAGED = ['deposit_height', 'porosity', 'porosity_exact', 'coordination', 'coo
 
 
 def summary(runs, best_skin):
-    """One row per code: medians of the timings, means of the deposit measures over the rounds."""
+    """One row per code: the fastest round's times (the one least disturbed by other jobs) and the
+    medians, medians of the counts, means of the deposit measures over the rounds."""
     med = lambda k: statistics.median(r[k] for r in runs)
+    rate = [r['particle_steps'] / r['loop_s'] for r in runs]
     first = runs[0]
     row = {'code': first['code'].split('-')[0], 'variant': VARIANTS[first['code']].format(skin=best_skin),
-           'version': first['version'], 'dt': first['dt'], 'wall_s': med('wall_s'), 'cpu_s': med('cpu_s'),
-           'loop_s': med('loop_s'), 'simulated_s': med('simulated_s'), 'steps': med('steps'),
-           'grains_end': med('grains_end'),
-           'particle_steps_per_s': statistics.median(r['particle_steps'] / r['loop_s'] for r in runs),
-           'mass_flux_kg_s': first['mass_flux'],
+           'version': first['version'], 'dt': first['dt'], 'simulated_s': med('simulated_s'), 'steps': med('steps'),
+           'grains_end': med('grains_end'), 'particle_steps_per_s': max(rate),
+           'particle_steps_per_s_median': statistics.median(rate), 'mass_flux_kg_s': first['mass_flux'],
            'slab_grains': statistics.fmean(r['measured']['porosity_grains'] for r in runs), 'runs': len(runs)}
+    for k in ('wall_s', 'cpu_s', 'loop_s'):
+        row[k] = min(r[k] for r in runs)
+        row[k + '_median'] = med(k)
     for k in AVERAGED:
         row[k] = statistics.fmean(r['measured'][k] for r in runs)
     return row
@@ -526,14 +532,16 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, star
         'grains in slab |')
     add('|' + '---|' * 15)
     for c, r in rows.items():
-        add(f"| {CODES[c]} | {r['wall_s']:.2f} | {r['cpu_s']:.2f} | {r['loop_s']:.2f} | {r['simulated_s']:.3f} | "
-            f"{r['steps']:.0f} | {r['grains_end']:.0f} | {r['particle_steps_per_s']:.3g} | "
+        add(f"| {CODES[c]} | {r['wall_s']:.2f} ({r['wall_s_median']:.2f}) | {r['cpu_s']:.2f} ({r['cpu_s_median']:.2f}) | "
+            f"{r['loop_s']:.2f} ({r['loop_s_median']:.2f}) | {r['simulated_s']:.3f} | {r['steps']:.0f} | "
+            f"{r['grains_end']:.0f} | {r['particle_steps_per_s']:.3g} ({r['particle_steps_per_s_median']:.3g}) | "
             f"{r['deposit_height']:.4g} | {r['porosity']:.3f} | {r['porosity_exact']:.3f} | "
             f"{r['coordination']:.2f} | {r['coordination_no_rattlers']:.2f} | "
             f"{r['coordination_no_rattlers_4']:.2f} | {r['slab_grains']:.0f} |")
     add('')
-    add(f"Medians over the {n_rounds} rounds for times and counts, means for the deposit measures "
-        f"(`lammps-deposit.csv`: the same rows). Versions: {ts['version']}, {lm['version']}; dt = "
+    add(f"Times and rates: the fastest of the {n_rounds} rounds (the least disturbed by other jobs), the "
+        "median in brackets; steps and grains: medians; deposit measures: means (`lammps-deposit.csv`: the "
+        f"same rows, `_median` columns for the medians). Ratios below from the fastest rounds. Versions: {ts['version']}, {lm['version']}; dt = "
         f"{p['dt']:g} s for both.\n")
     add('| LAMMPS / tsubu | wall | CPU | loop | particle-steps/s |')
     add('|---|---|---|---|---|')
