@@ -739,6 +739,10 @@ def write_results(results, p, coeffs, collisions, skins, best_skin, rounds, star
     add('- The deposits are small (about 120 grains in the measured slab) and still dynamic at the stop '
         '(grains keep landing at about 1.8 m/s): porosity and Z change from row to row and from seed to '
         'seed. Compare the ranges over the rounds, not single digits.')
+    add('- Both codes are deterministic for a seed (a repeated run gives the same bits), but LAMMPS\'s '
+        'deposit also changes with the neighbour skin (the contact forces are summed in another order and '
+        'the difference grows): the skins tried are within a few per cent of each other, so which one is '
+        'kept, and with it the LAMMPS deposits, can change from one invocation of the script to the next.')
     add('- The timed work: tsubu as given measures porosity and coordination at every row and writes VTK '
         'frames, which LAMMPS does not do; the lean tsubu run removes that difference.')
     warnings = sorted({w for r in by_code['lammps'] for w in r.get('warnings', [])})
