@@ -200,12 +200,17 @@ def plot_phi_z(sweeps, png):
     ax.axhline(RANDOM_CLOSE, color="0.5", ls=":", lw=1, label=f"random close packing {RANDOM_CLOSE}")
     ax.set_xlabel("Z without rattlers (grains with fewer than 4 contacts left out)")
     ax.set_ylabel("solid fraction φ = 1 - porosity")
-    ax.set_title(f"One size, d = 1 cm, {box_label(water + vacuum)}", fontsize="medium")
+    save_one_size(fig, ax, water + vacuum, png)
+    return True
+
+
+def save_one_size(fig, ax, cases, png):
+    """The one-size figures' title (with the box), legend and grid; writes png."""
+    ax.set_title(f"One size, d = 1 cm, {box_label(cases)}", fontsize="medium")
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
     fig.savefig(png, dpi=110)
     plt.close(fig)
-    return True
 
 
 def plot_flux(sweeps, png):
@@ -230,11 +235,7 @@ def plot_flux(sweeps, png):
     ax.minorticks_off()
     ax.set_xlabel("flux Q/Q0 (= φ0/0.1)")
     ax.set_ylabel("porosity of 0.15 L < z < 0.35 L")
-    ax.set_title(f"One size, d = 1 cm, {box_label(water + vacuum)}", fontsize="medium")
-    ax.legend(fontsize="small")
-    ax.grid(alpha=0.3)
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save_one_size(fig, ax, water + vacuum, png)
     return True
 
 
