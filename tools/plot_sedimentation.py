@@ -36,9 +36,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig8")
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig8")
 WITHOUT_FLUID = {"vacuum"}
-MIXTURES = {"fig7", "fig8"}
+MIXTURES = {"fig7", "fig7-seeds", "fig8"}
 TALBOT_PARAMETERS = {"S": "particles.0.distribution.exponent", "Sigma": "particles.0.distribution.spread"}
 POLY_EXAMPLE = {"S": 0.0, "Sigma": 2.0}  # poly.toml's Talbot exponent and spread
 D_MAX = 0.01        # m: the diameter of the one-size sweeps, d_max of the mixtures
@@ -270,10 +270,15 @@ def plot_finite_size(sweeps, png):
     return True
 
 
+def fig7_cases(sweeps):
+    """The finished mixtures of Fig. 7: fig7's (seed 1) pooled with fig7-seeds' (more seeds)."""
+    return finished(sweeps, "fig7") + [{**c, "sweep": "fig7"} for c in finished(sweeps, "fig7-seeds")]
+
+
 def plot_fig7(sweeps, png):
     """Fig. 7: porosity of the mixtures against Sigma, a panel per flux and a line per S, with
     Wu & Wang for each mixture's d50 by mass. False without data."""
-    cases = finished(sweeps, "fig7")
+    cases = fig7_cases(sweeps)
     if not cases:
         return False
     panels = by(cases, "Q_over_Q0")[::-1]
@@ -410,11 +415,11 @@ def markdown(sweeps):
                     for (fluid, size, q), g in by(cases, "fluid", "L_over_d", "Q_over_Q0")]
             lines += [f"{title} (mean ± standard deviation over the seeds):", "",
                       *table(["fluid", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
-    mixtures = finished(sweeps, "fig7") + finished(sweeps, "fig8")
+    mixtures = fig7_cases(sweeps) + finished(sweeps, "fig8")
     if mixtures:
         rows = [[sweep, f"{q:g}", f"{exponent:g}", f"{spread:g}", str(len(g)), *deposit_cells(g, MIXTURE)]
                 for (sweep, q, exponent, spread), g in by(mixtures, "sweep", "Q_over_Q0", "S", "Sigma")]
-        lines += ["Figs. 7-8, Talbot mixtures (one seed: ± is the Monte Carlo standard error; Γ at the stop):", "",
+        lines += ["Figs. 7-8, Talbot mixtures (±: the standard deviation over the seeds, for one seed the Monte Carlo standard error; Γ at the stop):", "",
                   *table(["sweep", "Q/Q0", "S", "Σ", "seeds", *(COLUMNS[k][0] for k in MIXTURE)], rows), ""]
         rows = []
         for exponent, spread in sorted({(c["S"], c["Sigma"]) for c in mixtures}):
@@ -423,7 +428,8 @@ def markdown(sweeps):
                          f"{delta:.3f}", f"{skewness:.2f}", f"{wu_wang_porosity(d50 * 1e3):.3f}"])
         lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution):", "",
                   *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity"], rows), ""]
-    lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS if not finished(sweeps, sweep)]
+    lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS
+              if sweep != "fig7-seeds" and not finished(sweeps, sweep)]  # fig7-seeds only adds seeds to fig7
     return "\n".join(lines)
 
 
