@@ -204,13 +204,20 @@ def plot_phi_z(sweeps, png):
     return True
 
 
+def save(fig, png, title=None):
+    """Writes the figure (with a title over all its panels, if given) and closes it."""
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+
+
 def save_one_size(fig, ax, cases, png):
     """The one-size figures' title (with the box), legend and grid; writes png."""
     ax.set_title(f"One size, d = 1 cm, {box_label(cases)}", fontsize="medium")
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save(fig, png)
 
 
 def plot_flux(sweeps, png):
@@ -263,10 +270,8 @@ def plot_finite_size(sweeps, png):
         ax.set_xlabel("box size L/d")
         ax.grid(alpha=0.3)
     q = sorted({c["Q_over_Q0"] for c in cases})
-    fig.suptitle(f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}; "
-                 "error bars: standard deviation over the seeds", fontsize="medium")
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save(fig, png, f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}; "
+                   "error bars: standard deviation over the seeds")
     return True
 
 
@@ -297,10 +302,8 @@ def plot_fig7(sweeps, png):
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L")
     axes[0][0].legend(fontsize="small")
-    fig.suptitle(f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}; dotted: Wu & Wang for each "
-                 "mixture's d50 by mass", fontsize="medium")
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save(fig, png, f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}; dotted: Wu & Wang for each "
+                   "mixture's d50 by mass")
     return True
 
 
@@ -337,10 +340,7 @@ def plot_fig8(sweeps, png):
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("Γ: share of d < d_max/3 in the solid volume")
     axes[0][0].legend(fontsize="small")
-    fig.suptitle(f"Talbot S = {cases[0]['S']:g}, Σ = {cases[0]['Sigma']:g}, d_max = 1 cm, {box_label(cases)}",
-                 fontsize="medium")
-    fig.savefig(png, dpi=110)
-    plt.close(fig)
+    save(fig, png, f"Talbot S = {cases[0]['S']:g}, Σ = {cases[0]['Sigma']:g}, d_max = 1 cm, {box_label(cases)}")
     return True
 
 

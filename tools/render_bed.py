@@ -104,6 +104,12 @@ def draw_slice(ax, centres, radii, diameters, lower, upper):
     return patches
 
 
+def series_rows(out_dir):
+    """The rows of a run's series.csv, as dicts of strings."""
+    with open(os.path.join(out_dir, "series.csv")) as f:
+        return list(csv.DictReader(f))
+
+
 def figure_with_slice(figsize, width_ratios, centres, radii, diameters, lower, upper):
     """A figure of two columns: the slice (a) with its colour bar in the first, whose divider
     places profiles beside it, as tall as the slice; returns (fig, grid, ax_slice, divider)."""
@@ -137,8 +143,7 @@ def render(out_dir, png):
     ax_phi.grid(alpha=0.3)
 
     ax_ke = fig.add_subplot(grid[1])
-    with open(os.path.join(out_dir, "series.csv")) as f:
-        rows = list(csv.DictReader(f))
+    rows = series_rows(out_dir)
     t = np.array([float(r["time"]) for r in rows])
     ke = np.array([float(r["kinetic_translational"]) + float(r["kinetic_rotational"]) for r in rows])
     ax_ke.semilogy(t[ke > 0], ke[ke > 0])  # log axis: the state at rest (0 J) is left out

@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from plot_profiles import read_profile  # noqa: E402
-from render_bed import MM, box, figure_with_slice, last_frame  # noqa: E402
+from render_bed import MM, box, figure_with_slice, last_frame, series_rows  # noqa: E402
 
 
 def profile_at_end(out_dir, name):
@@ -67,8 +67,7 @@ def render(out_dir, png):
     ax_grade.grid(alpha=0.3)
 
     ax_time = fig.add_subplot(grid[1])
-    with open(os.path.join(out_dir, "series.csv")) as f:
-        rows = list(csv.DictReader(f))
+    rows = series_rows(out_dir)
     t = np.array([float(r["time"]) for r in rows])
     if rows and "deposit_height" in rows[0]:
         ax_time.plot(t, [float(r["deposit_height"]) * MM for r in rows], "k", label="deposit height (mm)")

@@ -33,12 +33,12 @@ struct ContactRecord {
 // and half a period of its current linear-equivalent stiffness; a particle in touch at most
 // eta_damping over a bound on its dashpots' fastest decay rate (see compute_active); an
 // approaching listed pair allows eta_gap times the time to close its gap, but never less
-// than its contact step.
+// than its contact step. The values (and their defaults) are BlockStepRules'.
 struct ContactStepRules {
-  double kappa_c = 0.04;
-  double eta_damping = 1.5;  // a particle's step at most this over its dashpots' decay rate
-  double eta_gap = 0.5;
-  double u_floor = 1e-3;  // m/s
+  double kappa_c = 0;
+  double eta_damping = 0;  // a particle's step at most this over its dashpots' decay rate
+  double eta_gap = 0;
+  double u_floor = 0;  // m/s
 };
 
 // What a block-step evaluation returns beside forces and torques, per particle (only the

@@ -101,7 +101,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   std::vector<int> contacts_before(world.particles.contact_count);
   for (int pass = 0; pass < 2; ++pass) {
     forces.compute_active(world, predictor(world, now), active_, is_active_,
-                          {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}, rates_);
+                          contact_rules(), rates_);
     parallel_for(n, [&](std::size_t i) { take_state(world, i); });
   }
   stats_.evaluations[0] += n;  // the first evaluation, counted once
@@ -147,7 +147,7 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
   }
   rebuild_lists(world, forces, now);
   forces.compute_active(world, predictor(world, now), fresh, is_active_,
-                        {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}, rates_);
+                        contact_rules(), rates_);
   for (std::uint32_t i : fresh) {
     take_state(world, i);
     const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
@@ -201,6 +201,14 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
   lists_stale_ = false;
 }
 
+double BlockHermite::list_limit(std::uint32_t i) const {
+  return list_reach_[i] + 0.45 * list_skin_;  // 10 % of the half skin spare for the corrector
+}
+
+double BlockHermite::moved_since_list(const World& world, std::uint32_t i, const Vec3& x) const {
+  return norm(world.domain.separation(x, list_positions_[i]));
+}
+
 bool BlockHermite::list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const {
   // Where the particle, about to be evaluated at the predictor's time, can be by the end of
   // its next step (at most twice its current one; the Taylor series' terms bounded one by
@@ -209,9 +217,9 @@ bool BlockHermite::list_outrun(const World& world, const Predictor& kin, std::ui
   const Kinematics k = kin.at(i);
   const int next_level = std::max(int(state_.level[i]) - 1, 0);
   const double s = static_cast<double>(step_ticks(next_level)) * tick(world);
-  const double moved = norm(world.domain.separation(k.x, list_positions_[i]));
+  const double moved = moved_since_list(world, i, k.x);
   const double ahead = s * (norm(k.v) + s * (0.5 * norm(k.a) + s / 6.0 * norm(state_.jerk[i])));
-  return moved + ahead > list_reach_[i] + 0.45 * list_skin_;  // 10 % spare for the corrector
+  return moved + ahead > list_limit(i);
 }
 
 void BlockHermite::collect_active(std::int64_t t) {
@@ -275,7 +283,7 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
 }
 
 void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
-  forces.compute_active(world, predictor(world, t), active_, is_active_, {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor},
+  forces.compute_active(world, predictor(world, t), active_, is_active_, contact_rules(),
                         rates_);
   for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
 }
@@ -405,8 +413,8 @@ void BlockHermite::choose_levels(const World& world, std::int64_t t,
     // The gap rules know only the listed neighbours: a step must not carry the particle out
     // of the region its list covers (a fast grain on a long step would pass through grains it
     // has not listed yet).
-    const double margin = list_reach_[i] + 0.45 * list_skin_ - norm(world.domain.separation(p.position[i], list_positions_[i]));
-    bound = std::min(bound, time_to_close(std::max(margin, 0.0), norm(p.velocity[i]), norm(state_.acc[i])));
+    const double room = list_limit(i) - moved_since_list(world, i, p.position[i]);
+    bound = std::min(bound, time_to_close(std::max(room, 0.0), norm(p.velocity[i]), norm(state_.acc[i])));
     // The second-order estimate after a grain's first touch from free flight (a force whose
     // rate is singular at the onset, as Tsuji's dashpot, needs short steps there) and after
     // its last contact ended (Aarseth's criterion restarts). Not when a grain already in

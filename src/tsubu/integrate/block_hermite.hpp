@@ -97,6 +97,11 @@ class BlockHermite {
   void choose_levels(const World& world, std::int64_t t, const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
+  // How far particle i may move from where its list was built before the list misses a
+  // neighbour, and how far it has moved when at x.
+  double list_limit(std::uint32_t i) const;
+  double moved_since_list(const World& world, std::uint32_t i, const Vec3& x) const;
+  ContactStepRules contact_rules() const { return {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}; }
   int level_for(double bound, const World& world) const;
 };
 
