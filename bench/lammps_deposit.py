@@ -776,6 +776,7 @@ def main():
     ap.add_argument('--work', help='keep the runs in this folder (default: a temporary one)')
     ap.add_argument('--render', metavar='RAW_JSON', help='only write the tables again from a kept raw.json')
     args = ap.parse_args()
+    args.tsubu = os.path.abspath(args.tsubu)  # the runs start in folders of their own
     if args.render:
         raw = json.load(open(args.render))
         write_results(args.results, **{k: raw[k] for k in WRITE_ARGS})
