@@ -103,6 +103,15 @@ TEST(BlockHermiteRuns, OneAndTwoThreadsGiveIdenticalBits) {
   expect_same_run(one, two);
 }
 
+// With hindered settling each active grain's ball is summed in index order from the
+// predicted neighbours: 1 and 2 threads give the same bits.
+TEST(BlockHermiteRuns, HinderedSettlingOneAndTwoThreadsGiveIdenticalBits) {
+  const std::vector<std::string> sets = {"search.sort_every=10", "fluid.hindered_settling=true"};
+  const World one = run_test_scenario("block_threads.toml", sets, 1);
+  const World two = run_test_scenario("block_threads.toml", sets, 2);
+  expect_same_run(one, two);
+}
+
 // The searches list the same pairs and the forces are summed in (i, j) order: the same bits
 // with either method.
 TEST(BlockHermiteRuns, CellAndMultilevelSearchGiveIdenticalBits) {

@@ -340,6 +340,16 @@ TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_BlockHermite) {
   expect_inflow_resume_bit_identical({"simulation.integrator=\"block_hermite\""});
 }
 
+// Hindered settling: the crowding is rebuilt from the state, never stored.
+TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_HinderedVelocityVerlet) {
+  expect_inflow_resume_bit_identical(
+      {"simulation.dt=5e-6", "output.checkpoint_every_steps=4000", "fluid.hindered_settling=true"});
+}
+
+TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_HinderedBlockHermite) {
+  expect_inflow_resume_bit_identical({"simulation.integrator=\"block_hermite\"", "fluid.hindered_settling=true"});
+}
+
 // SIGTERM (as SIGINT): a checkpoint of the step reached, run.json "interrupted", exit code 4;
 // the resumed run ends as the uninterrupted one. Checkpoints here come from the signal and
 // the end of the run only (every_steps beyond the run, none by wall time).

@@ -51,6 +51,29 @@ TEST(Threads, OneAndTwoThreadsGiveIdenticalBits) {
   EXPECT_TRUE(same_bits(two.particles.position, again.particles.position));
 }
 
+// Hindered settling (docs/engine.md): each grain's ball sums its neighbours in index order,
+// so threads and the skin (which changes what the crowd list holds) leave the bits alone.
+TEST(Threads, HinderedSettlingGivesIdenticalBitsForThreadsAndSkins) {
+  const std::vector<std::string> water = {"search.sort_every=50", "fluid.density=1000", "fluid.kinematic_viscosity=1e-6",
+                                          "fluid.hindered_settling=true"};
+  auto with = [&](std::string extra) {
+    std::vector<std::string> sets = water;
+    sets.push_back(std::move(extra));
+    return sets;
+  };
+  const World one = run("lattice_threads.toml", 1, with("simulation.skin=2e-5"));
+  const World two = run("lattice_threads.toml", 2, with("simulation.skin=2e-5"));
+  const World thick = run("lattice_threads.toml", 1, with("simulation.skin=8e-4"));
+  const World plain = run("lattice_threads.toml", 1, {"search.sort_every=50", "fluid.density=1000",
+                                                      "fluid.kinematic_viscosity=1e-6", "simulation.skin=2e-5"});
+  for (const World* w : {&two, &thick}) {
+    EXPECT_TRUE(same_bits(one.particles.position, w->particles.position));
+    EXPECT_TRUE(same_bits(one.particles.velocity, w->particles.velocity));
+    EXPECT_TRUE(same_bits(one.particles.omega, w->particles.omega));
+  }
+  EXPECT_FALSE(same_bits(one.particles.velocity, plain.particles.velocity)) << "the hindrance must act";
+}
+
 // Touching contacts are summed in (i, j) order whatever else the neighbour list holds, so the
 // skin changes the number of list rebuilds, never the result.
 TEST(NeighbourList, SkinDoesNotChangeTheResult) {

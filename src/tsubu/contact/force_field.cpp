@@ -95,6 +95,12 @@ void ForceField::compute(World& world, double fluid_lead) {
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
+  if (!crowd_list_.empty()) {
+    const Particles& p = world.particles;
+    parallel_for(p.size(), [&](std::size_t i) {
+      crowding_[i] = crowd_list_.of(world, i, [&](std::size_t j) { return PointMotion{p.position[j], p.velocity[j]}; });
+    });
+  }
   accumulate(world, fluid_lead);
 }
 
@@ -162,7 +168,24 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   find_wall_contacts(world, probe, margin, candidates);
   contacts.carry_walls(candidates);
   contacts.index(world.particles.size());
+  build_crowd_list(world, probe, margin, candidates);
   ++rebuilds_;
+}
+
+void ForceField::build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch) {
+  crowding_.clear();
+  if (!world.fluid.enabled || !world.fluid.hindered) {
+    crowd_list_ = {};
+    return;
+  }
+  const Particles& p = world.particles;
+  Particles balls;
+  balls.position = probe.position;
+  balls.radius.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) balls.radius[i] = CrowdList::probe_radius(world.fluid, p.radius[i], probe.radius[i]);
+  grid_.find_pairs(balls, world.domain, margin, scratch);
+  crowd_list_.build(world, scratch);
+  crowding_.resize(p.size());
 }
 
 void ForceField::find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out) {
@@ -306,7 +329,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
         const double d = 2 * p.radius[i];
         Vec3 u = p.velocity[i], w = p.omega[i];
         if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, u, w);
+        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, u, w, crowding(i));
         force += fl.force;
         torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "tsubu/fluid/crowding.hpp"
 #include "tsubu/integrate/hermite_state.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/world.hpp"
@@ -101,6 +102,9 @@ class ForceField {
   // Whether the current lists have been evaluated (not yet after a resume from a checkpoint,
   // until the next step): touching_contacts() is then complete.
   bool evaluated(const World& world) const;
+  // Hindered settling (Fluid::hindered): the solid fraction around particle i, its rate and
+  // exponent as the last evaluation of i found them (a lone grain's without hindrance).
+  const Crowding& crowding(std::size_t i) const { return i < crowding_.size() ? crowding_[i] : kLone; }
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
   std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
   // Resuming from a checkpoint: the counters continue; the lists are rebuilt on the next
@@ -134,6 +138,9 @@ class ForceField {
     double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
   };
   PairSearch grid_;
+  static constexpr Crowding kLone{};
+  CrowdList crowd_list_;              // built with the lists when the fluid hinders settling
+  std::vector<Crowding> crowding_;    // per particle
   Results pair_results_, wall_results_;
   std::vector<Rates> pair_rates_, wall_rates_;
   std::vector<Vec3> built_at_;  // positions at the last build
@@ -148,6 +155,8 @@ class ForceField {
   // margin; histories carried over.
   void build_lists(World& world, const Particles& probe, double margin);
   void find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out);
+  // The crowd list from the same probe (each ball's reach added to the probe radii).
+  void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);
   template <class Normal, class Tangential>
   void evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
                            const Normal& normal, const Tangential& tangential);

@@ -137,6 +137,15 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
       }
     });
   });
+  // Hindered settling: each active particle's crowding from the predicted neighbours.
+  if (!crowd_list_.empty())
+    parallel_for(active.size(), [&](std::size_t q) {
+      const std::uint32_t i = active[q];
+      crowding_[i] = crowd_list_.of(world, i, [&](std::size_t j) {
+        const Kinematics k = kin.at(j);
+        return PointMotion{k.x, k.v};
+      });
+    });
   // The gather, as in accumulate(), with the rates beside the values.
   std::vector<double> worst(active.size(), 0.0);
   std::vector<std::uint64_t> touching(active.size(), 0);

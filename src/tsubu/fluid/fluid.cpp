@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "tsubu/core/dual.hpp"
 
@@ -42,9 +43,21 @@ struct Load {
   Vector<T> force, torque;
 };
 
-// The fluid's force (buoyancy, drag, lift) and torque, on double (values) or Dual (rates).
+// (1 - phi)^-n with the rate of phi, on double (values) or Dual (rates).
 template <class T>
-Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const Vector<T>& w) {
+T hindrance_of(const Crowding& c) {
+  const double s = std::pow(1 - c.solid_fraction, -c.exponent);
+  if constexpr (std::is_same_v<T, double>) return s;
+  else return T(s, c.exponent * s / (1 - c.solid_fraction) * c.rate);  // d/dt (1-phi)^-n = n (1-phi)^(-n-1) dphi/dt
+}
+
+bool hindered(const Fluid& f, const Crowding& c) { return f.hindered && c.exponent != 0; }
+
+// The fluid's force (buoyancy, drag, lift) and torque, on double (values) or Dual (rates).
+// Hindered settling (Fluid::hindered): the drag is the lone grain's at the velocity s u,
+// s = (1 - phi)^-n, so a grain in a homogeneous suspension settles at u_t (1 - phi)^n.
+template <class T>
+Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const Vector<T>& w, const Crowding& crowd) {
   Load<T> out{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
   if (!f.enabled) return out;
   const double area = M_PI * d * d / 4, volume = M_PI * d * d * d / 6;
@@ -53,26 +66,32 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const 
     out.force = {T(b * g.x), T(b * g.y), T(b * g.z)};
   }
   if (f.stokes_torque) out.torque = T(-M_PI * f.density * f.viscosity * d * d * d) * w;
-  const bool spin = f.lift != SpinModel::none;
-  if (!f.drag && !spin) return out;
+  const bool spin_model = f.lift != SpinModel::none;
+  if (!f.drag && !spin_model) return out;
 
   const T q2 = dot(u, u);
   const double half_rho_s = 0.5 * f.density * area;
+  const bool hinder = f.drag && hindered(f, crowd);
+  const T s = hinder ? hindrance_of<T>(crowd) : T(1.0);
   if (value(q2) == 0) {
     // At rest relative to the fluid: the Stokes limit of the drag, no lift.
-    if (f.drag) out.force = out.force + T(-half_rho_s * f.viscosity / d * 24.0) * u;
+    if (f.drag) {
+      T stokes(-half_rho_s * f.viscosity / d * 24.0);
+      if (hinder) stokes = stokes * s;
+      out.force = out.force + stokes * u;
+    }
     return out;
   }
   const T q = sqrt(q2);
   const T re = q * T(d / f.viscosity);
-  const T s2 = dot(w, w);
-  const bool spinning = value(s2) > 0;
-  const T s = spinning ? sqrt(s2) : T(0.0);
+  const T w2 = dot(w, w);
+  const bool spinning = value(w2) > 0;
+  const T spin = spinning ? sqrt(w2) : T(0.0);
 
   T correction(1.0);   // C_D(Re, W)/C_D(Re, 0)
   T lift_coefficient(0.0);
   if (f.lift == SpinModel::kurose_komori && spinning) {
-    T star = T(0.5 * d) * s / q;          // Omega*
+    T star = T(0.5 * d) * spin / q;       // Omega*
     if (value(star) > 0.5) star = T(0.5);  // held at its value at 0.5 beyond
     const T e1 = interpolate(f.eta.re, f.eta.eta1, re);
     const T e2 = interpolate(f.eta.re, f.eta.eta2, re);
@@ -81,9 +100,11 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const 
     correction = T(1.0) + e1 * sqrt(star) + e2 * star2 * star2;
     lift_coefficient = e3 * star;
   } else if (f.lift == SpinModel::loth && spinning) {
-    lift_coefficient = loth(re, T(d) * s / q);
+    lift_coefficient = loth(re, T(d) * spin / q);
   }
-  if (f.drag)
+  if (f.drag && hinder)
+    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re * s) * correction * s) * u;
+  else if (f.drag)
     out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re) * correction) * u;
   if (value(lift_coefficient) != 0) {
     const Vector<T> c = cross(w, u);
@@ -100,26 +121,59 @@ double Fluid::added_mass_of(double diameter) const {
   return added_mass_coefficient * density * M_PI * diameter * diameter * diameter / 6;
 }
 
-FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega) {
-  const Load<double> l = load<double>(fluid, d, g, u, omega);
+FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega,
+                     const Crowding& crowd) {
+  const Load<double> l = load<double>(fluid, d, g, u, omega, crowd);
   return {l.force, l.torque};
 }
 
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
-                          const Vec3& alpha) {
-  return fluid_load_with_rate(fluid, d, {}, u, a, omega, alpha).rate;
+                          const Vec3& alpha, const Crowding& crowd) {
+  return fluid_load_with_rate(fluid, d, {}, u, a, omega, alpha, crowd).rate;
 }
 
 FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
-                                       const Vec3& omega, const Vec3& alpha) {
-  const Load<Dual> l = load<Dual>(fluid, d, g, DualVec3(u, a), DualVec3(omega, alpha));
+                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd) {
+  const Load<Dual> l = load<Dual>(fluid, d, g, DualVec3(u, a), DualVec3(omega, alpha), crowd);
   return {{value(l.force), value(l.torque)}, {rate(l.force), rate(l.torque)}};
 }
 
-double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed) {
+double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed, const Crowding& crowd) {
   if (!fluid.enabled || !fluid.drag) return INFINITY;
   const double area = M_PI * d * d / 4;
-  return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(speed * d / fluid.viscosity));
+  const double s = hindrance(fluid.hindered ? crowd : Crowding{});
+  return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(s * speed * d / fluid.viscosity) * s);
+}
+
+double hindrance(const Crowding& crowd) { return crowd.exponent == 0 ? 1.0 : hindrance_of<double>(crowd); }
+
+double terminal_speed(const Fluid& fluid, double rho_particle, double d, double g) {
+  // Weight net of buoyancy = drag: Re (Re C_D) = 4 Ar/3, Ar = (rho_p/rho_f - 1) g d^3/nu^2.
+  const double ar = (rho_particle / fluid.density - 1) * g * d * d * d / (fluid.viscosity * fluid.viscosity);
+  if (!(ar > 0)) return 0;
+  const double k = 4 * ar / 3, cap = Fluid::drag_cap_re;
+  double re;
+  if (k >= cap * cap * 0.44) re = std::sqrt(k / 0.44);
+  else if (k >= cap * re_times_cd(cap)) re = cap;  // in the 0.5 % step of C_D at the cap
+  else {
+    // Newton from the Stokes root, which lies above the root of this convex increasing
+    // function: the iterates fall monotonically onto it.
+    re = std::min(k / 24, cap);
+    for (int it = 0; it < 100; ++it) {
+      const double f = re * re_times_cd(re) - k, slope = 24 + 3.6 * 1.687 * std::pow(re, 0.687);
+      const double next = re - f / slope;
+      if (!(next < re)) break;
+      re = next;
+    }
+  }
+  return re * fluid.viscosity / d;
+}
+
+double richardson_zaki_exponent(double re) {
+  if (re < 0.2) return 4.65;
+  if (re < 1) return 4.4 * std::pow(re, -0.03);
+  if (re < 500) return 4.4 * std::pow(re, -0.1);
+  return 2.39;
 }
 
 double drag_coefficient(double re) { return re_times_cd(re) / re; }

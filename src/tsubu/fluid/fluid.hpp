@@ -31,12 +31,27 @@ struct Fluid {
   bool stokes_torque = true;  // -pi rho_f nu d^3 omega
   SpinModel lift = SpinModel::none;
   EtaTable eta;  // used by SpinModel::kurose_komori
+  // Hindered settling (Richardson-Zaki): the drag of a grain whose surroundings hold solid
+  // fraction phi is the lone grain's drag at the velocity u/(1-phi)^n, n the grain's
+  // Richardson-Zaki exponent; phi is measured in a ball of hindered_ball_ratio grain radii
+  // around the grain (fluid/crowding.hpp).
+  bool hindered = false;
+  double hindered_ball_ratio = 3;
 
   static constexpr double added_mass_coefficient = 0.5;  // C_M of a sphere in still fluid
   static constexpr double drag_cap_re = 1000;            // Re above which C_D = 0.44
 
   // C_M rho_f V of a sphere of this diameter (0 without fluid or without added mass), kg.
   double added_mass_of(double diameter) const;
+};
+
+// What hindered settling needs of one grain: the solid fraction phi of its surroundings, the
+// rate of phi, and the grain's Richardson-Zaki exponent n. The default (n = 0) is a lone
+// grain: no correction.
+struct Crowding {
+  double solid_fraction = 0;  // phi
+  double rate = 0;            // dphi/dt, 1/s
+  double exponent = 0;        // n
 };
 
 // Force (buoyancy + drag + lift) and torque of the fluid on one sphere.
@@ -46,26 +61,44 @@ struct FluidLoad {
 
 // The fluid's force and torque on a sphere of diameter d moving with velocity u and spin
 // omega through the still fluid, under gravity g. Gravity itself (m g) is not included.
-FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega);
+// With `crowd` the drag is hindered (Fluid::hindered).
+FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega,
+                     const Crowding& crowd = {});
 
 // d/dt of fluid_load along a trajectory with du/dt = a and domega/dt = alpha (the jerk of
 // the fluid force and the rate of its torque). Exact derivatives of the same expressions
 // (forward-mode differentiation), so force and rate never disagree. At u = 0 the drag rate
 // is the limit -f(0) a; at omega = 0 exactly the spin terms' rates are taken as zero (the
 // Kurose-Komori W^0.5 term has an unbounded rate there).
+// With `crowd`, its rate enters the hindered drag's rate.
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
-                          const Vec3& alpha);
+                          const Vec3& alpha, const Crowding& crowd = {});
 
 // Both at once (one evaluation on Duals; the values agree with fluid_load to round-off).
 struct FluidLoadWithRate {
   FluidLoad value, rate;
 };
 FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
-                                       const Vec3& omega, const Vec3& alpha);
+                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd = {});
 
 // Relaxation time of the drag on a sphere of diameter d and translational mass m moving at
-// `speed` through the still fluid: m / (F_drag/speed), s (infinite without drag).
-double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed);
+// `speed` through the still fluid: m / (F_drag/speed), s (infinite without drag); hindered
+// by `crowd`.
+double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed, const Crowding& crowd = {});
+
+// The factor (1 - phi)^-n by which hindered settling scales the velocity the drag is taken at
+// (1 for a lone grain).
+double hindrance(const Crowding& crowd);
+
+// Terminal settling speed of a sphere of density rho_particle and diameter d alone in the
+// still fluid (buoyancy and drag with Schiller-Naumann balance its weight), m/s; 0 for a grain
+// not denser than the fluid. g is the magnitude of gravity.
+double terminal_speed(const Fluid& fluid, double rho_particle, double d, double g);
+
+// Richardson and Zaki's (1954) exponent n of u = u_t (1 - phi)^n for spheres far from the
+// walls, from the lone grain's terminal Reynolds number: 4.65 below Re_t = 0.2,
+// 4.4 Re_t^-0.03 up to 1, 4.4 Re_t^-0.1 up to 500, 2.39 above.
+double richardson_zaki_exponent(double re_terminal);
 
 // Schiller-Naumann C_D(Re) = 24/Re (1 + 0.15 Re^0.687) for Re <= 1000, 0.44 above.
 double drag_coefficient(double re);

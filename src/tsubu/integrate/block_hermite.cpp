@@ -102,25 +102,26 @@ void BlockHermite::start(World& world, ForceField& forces) {
   for (int pass = 0; pass < 2; ++pass) {
     forces.compute_active(world, predictor(world, now), active_, is_active_,
                           contact_rules(), rates_);
-    parallel_for(n, [&](std::size_t i) { take_state(world, i); });
+    parallel_for(n, [&](std::size_t i) { take_state(world, forces, i); });
   }
   stats_.evaluations[0] += n;  // the first evaluation, counted once
   std::fill(contacts_before.begin(), contacts_before.end(), -1);  // every step is a first step
-  choose_levels(world, now, contacts_before);
+  choose_levels(world, forces, now, contacts_before);
   std::fill(is_active_.begin(), is_active_.end(), 0);
   active_.clear();
 }
 
-void BlockHermite::take_state(World& world, std::size_t i) {
+void BlockHermite::take_state(World& world, const ForceField& forces, std::size_t i) {
   // p.force/torque and rates_ hold gravity and the contacts at the particle's own time; the
   // fluid's forces are added here (at the current velocity and spin, the rates along the
   // accelerations they give).
   Particles& p = world.particles;
   const double d = 2 * p.radius[i], m = p.translational_mass[i];
-  const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i]);
+  const Crowding& crowd = forces.crowding(i);
+  const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i], crowd);
   state_.acc[i] = (p.force[i] + fl.force) / m;
   state_.alpha[i] = (p.torque[i] + fl.torque) / p.inertia[i];
-  const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i]);
+  const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i], crowd);
   state_.jerk[i] = (rates_.force[i] + fr.force) / m;
   state_.alpha_dot[i] = (rates_.torque[i] + fr.torque) / p.inertia[i];
   p.force[i] += fl.force, p.torque[i] += fl.torque;
@@ -149,10 +150,10 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
   forces.compute_active(world, predictor(world, now), fresh, is_active_,
                         contact_rules(), rates_);
   for (std::uint32_t i : fresh) {
-    take_state(world, i);
+    take_state(world, forces, i);
     const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
                                    rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
-                                                                         norm(p.velocity[i]))});
+                                                                         norm(p.velocity[i]), forces.crowding(i))});
     set_level(i, level_for(bound, world));
     ++stats_.evaluations[state_.level[i]];
     is_active_[i] = 0;
@@ -338,7 +339,8 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     for (int pass = 0; pass < passes; ++pass) {
       // The rates are taken along the accelerations of the pass before (the predicted ones
       // first): the second pass's are within O(h^3) of the true ones.
-      const FluidLoadWithRate fluid = fluid_load_with_rate(world.fluid, 2 * p.radius[i], world.gravity, v, a1, w, al1);
+      const FluidLoadWithRate fluid =
+          fluid_load_with_rate(world.fluid, 2 * p.radius[i], world.gravity, v, a1, w, al1, forces.crowding(i));
       const FluidLoad &fl = fluid.value, &fr = fluid.rate;
       a1 = (f_c + fl.force) / m, al1 = (t_c + fl.torque) / inertia;
       j1 = (rates_.force[i] + fr.force) / m, ad1 = (rates_.torque[i] + fr.torque) / inertia;
@@ -398,7 +400,7 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
   }
 }
 
-void BlockHermite::choose_levels(const World& world, std::int64_t t,
+void BlockHermite::choose_levels(const World& world, const ForceField& forces, std::int64_t t,
                                  const std::vector<int>& contacts_before) {
   const Particles& p = world.particles;
   // Each active particle's wish: contacts and gaps (from the evaluation), the fluid's
@@ -409,7 +411,7 @@ void BlockHermite::choose_levels(const World& world, std::int64_t t,
     const std::uint32_t i = active_[q];
     double bound = rates_.step_bound[i];
     bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
-                                                                  norm(p.velocity[i])));
+                                                                  norm(p.velocity[i]), forces.crowding(i)));
     // The gap rules know only the listed neighbours: a step must not carry the particle out
     // of the region its list covers (a fast grain on a long step would pass through grains it
     // has not listed yet).
@@ -488,7 +490,7 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
     evaluate(world, forces, t);
     correct(world, forces, t, contacts_before);
-    choose_levels(world, t, contacts_before);
+    choose_levels(world, forces, t, contacts_before);
     for (std::uint32_t i : active_) is_active_[i] = 0;
     ++stats_.block_times;
     now = t;

@@ -86,7 +86,7 @@ class BlockHermite {
   std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
   Predictor predictor(const World& world, std::int64_t now) const;
   // The Hermite state of particle i from its evaluated forces and rates plus the fluid's.
-  void take_state(World& world, std::size_t i);
+  void take_state(World& world, const ForceField& forces, std::size_t i);
   void set_level(std::uint32_t i, int level);
   void index_levels();
   void collect_active(std::int64_t t);
@@ -94,7 +94,8 @@ class BlockHermite {
   void evaluate(World& world, ForceField& forces, std::int64_t t);
   void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
   void correct_dashpots(World& world, const ForceField& forces);
-  void choose_levels(const World& world, std::int64_t t, const std::vector<int>& contacts_before);
+  void choose_levels(const World& world, const ForceField& forces, std::int64_t t,
+                     const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
   // How far particle i may move from where its list was built before the list misses a

@@ -503,6 +503,15 @@ void read_fluid(Section s, Scenario& sc) {
   f.drag = s.flag("drag", true);
   f.added_mass = s.flag("added_mass", true);
   f.stokes_torque = s.flag("stokes_torque", true);
+  f.hindered = s.flag("hindered_settling", false);
+  if (s.has("hindered_ball_ratio")) {
+    if (!f.hindered) s.fail("hindered_ball_ratio", "is used only with hindered_settling = true");
+    f.hindered_ball_ratio = s.real("hindered_ball_ratio");
+    if (!(f.hindered_ball_ratio >= 1) || !std::isfinite(f.hindered_ball_ratio))
+      s.fail("hindered_ball_ratio", "the ball around each grain must hold the grain: a ratio >= 1 (default 3)" + got(f.hindered_ball_ratio));
+  }
+  if (f.hindered && !f.drag) s.fail("hindered_settling", "hinders the drag: it needs drag = true");
+  sc.fluid_where = {s.file(), s.line_of("hindered_ball_ratio"), s.key_path("hindered_ball_ratio")};
   const std::string lift = s.choice("lift", {"none", "kurose_komori", "loth"}, "none");
   f.lift = lift == "kurose_komori" ? SpinModel::kurose_komori : lift == "loth" ? SpinModel::loth : SpinModel::none;
   if (auto t = s.table("kurose_komori")) {

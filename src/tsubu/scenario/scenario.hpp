@@ -92,6 +92,7 @@ struct Scenario {
   BlockStepRules block_steps;  // [simulation.block_steps], integrator = "block_hermite"
   Vec3 gravity{0, 0, -9.81};
   Fluid fluid;  // [fluid]; absent: no fluid
+  SourceLocation fluid_where;  // fluid.hindered_ball_ratio, for checks made once the particles exist
   std::uint64_t seed = 1;
   double overlap_limit = 0.1;
   double energy_growth_limit = 0.5;  // see EnergyWatch; 0: off

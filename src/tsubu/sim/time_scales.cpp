@@ -197,17 +197,6 @@ double rayleigh_time(const Material& m, double d) {
   return M_PI * (d / 2) * std::sqrt(m.density / shear) / (0.1631 * m.poisson + 0.8766);
 }
 
-double terminal_speed(const Fluid& fluid, double rho, double d, double g) {
-  const double area = M_PI * d * d / 4;
-  const double weight = (rho - fluid.density) * M_PI * d * d * d / 6 * g;  // net of buoyancy
-  if (weight <= 0) return 0;
-  auto drag = [&](double u) { return 0.5 * drag_coefficient(u * d / fluid.viscosity) * fluid.density * area * u * u; };
-  double lo = 0, hi = 1;
-  while (drag(hi) < weight) hi *= 2;
-  for (int k = 0; k < 200 && hi - lo > 1e-14 * hi; ++k) (drag(0.5 * (lo + hi)) < weight ? lo : hi) = 0.5 * (lo + hi);
-  return 0.5 * (lo + hi);
-}
-
 TimeScales time_scales(const Scenario& sc, const World& w) {
   TimeScales ts;
   ts.grains = grain_sizes(sc, w);

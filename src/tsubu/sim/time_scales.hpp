@@ -26,10 +26,6 @@ constexpr double kLargestRelaxationShare = 0.5;
 // (Li, Xu & Thornton 2005; docs/references.md).
 double rayleigh_time(const Material& m, double d);
 
-// Terminal speed of a sphere of diameter d and density rho settling in the still fluid under
-// gravity g (the engine's drag law, by bisection), m/s; 0 for a grain not heavier than the fluid.
-double terminal_speed(const Fluid& fluid, double rho, double d, double g);
-
 // One size of one material: the smallest or the largest grain of it.
 struct GrainTimes {
   int material = 0;

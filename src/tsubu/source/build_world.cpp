@@ -191,6 +191,18 @@ World build_world(const Scenario& sc) {
         << " m) must be at least twice the largest diameter (" << d_max << " m)";
       fail_at(sc.domain_where, s.str());
     }
+  // Hindered settling sums each grain's neighbours once, at their nearest image: a ball of c
+  // radii around the largest grain, with a largest grain at its edge, must fit in half the
+  // periodic length.
+  const double c = sc.fluid.hindered_ball_ratio;
+  for (int k = 0; k < 3; ++k)
+    if (sc.fluid.enabled && sc.fluid.hindered && sc.domain.periodic[k] && sc.domain.length(k) < (c + 1) * d_max) {
+      std::ostringstream s;
+      s << "a ball of " << c << " radii around the largest grain (" << d_max << " m) and a grain at its edge need a periodic length of at least (ratio + 1) d_max = "
+        << (c + 1) * d_max << " m, but the length along " << "xyz"[k] << " is " << sc.domain.length(k)
+        << " m; allowed: a ratio up to " << sc.domain.length(k) / d_max - 1;
+      fail_at(sc.fluid_where, s.str());
+    }
   check_overlaps(w, grains, tolerance);
   check_walls(w, grains);
   check_tracked(sc, w);

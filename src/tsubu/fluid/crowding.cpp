@@ -1,0 +1,47 @@
+#include "tsubu/fluid/crowding.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tsubu {
+
+VolumeSlope lens_volume(double R, double r, double dist) {
+  if (dist >= R + r) return {};
+  const double small = std::min(R, r);
+  if (dist <= std::abs(R - r)) return {4.0 / 3.0 * M_PI * small * small * small, 0};
+  // The circle where the spheres meet lies at x from the ball's centre; the lens is a cap of
+  // each sphere: heights R - x and r - (dist - x).
+  const double x = (dist * dist + R * R - r * r) / (2 * dist);
+  const double h1 = R - x, h2 = r - (dist - x);
+  const double volume = M_PI / 3 * (h1 * h1 * (3 * R - h1) + h2 * h2 * (3 * r - h2));
+  return {volume, -M_PI * (R * R - x * x)};
+}
+
+VolumeSlope cap_volume(double R, double dist) {
+  if (dist >= R) return {};
+  if (dist <= -R) return {4.0 / 3.0 * M_PI * R * R * R, 0};
+  const double h = R - dist;
+  return {M_PI / 3 * h * h * (3 * R - h), -M_PI * (R * R - dist * dist)};
+}
+
+void CrowdList::build(const World& world, const std::vector<Pair>& found) {
+  const Particles& p = world.particles;
+  const std::size_t n = p.size();
+  start_.assign(n + 1, 0);
+  for (const Pair& q : found) ++start_[q.i + 1], ++start_[q.j + 1];
+  for (std::size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
+  neighbour_.resize(start_[n]);
+  std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+  // found is sorted by (i, j): each particle's partners below it come first, in order of
+  // their own index, then those above it, in order.
+  for (const Pair& q : found) neighbour_[fill[q.j]++] = q.i;
+  for (const Pair& q : found) neighbour_[fill[q.i]++] = q.j;
+  exponent_.resize(n);
+  const double g = norm(world.gravity);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = 2 * p.radius[i], rho = p.mass[i] / (M_PI * d * d * d / 6);
+    exponent_[i] = richardson_zaki_exponent(terminal_speed(world.fluid, rho, d, g) * d / world.fluid.viscosity);
+  }
+}
+
+}  // namespace tsubu

@@ -1,0 +1,84 @@
+// The local solid fraction around each grain, for hindered settling (Fluid::hindered): the
+// share of a ball of radius R_i = c r_i (c = Fluid::hindered_ball_ratio) around grain i that
+// grains fill, from exact sphere-sphere intersection volumes, over the part of the ball in
+// front of every wall (docs/engine.md, "Hindered settling"). Its rate follows from the
+// derivatives of the same volumes, so the hindered drag's jerk is exact.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "tsubu/fluid/fluid.hpp"
+#include "tsubu/search/pair_search.hpp"
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// A volume and its derivative with respect to a distance.
+struct VolumeSlope {
+  double volume = 0, slope = 0;
+};
+
+// The intersection of balls of radii R and r whose centres are `dist` apart, m^3, and its
+// derivative with respect to dist: -pi a^2, a the radius of the circle where the spheres
+// meet (zero when apart and when one lies inside the other, so the volume is C^1 in dist).
+VolumeSlope lens_volume(double R, double r, double dist);
+
+// The part of a ball of radius R beyond a plane at signed distance `dist` from its centre
+// (positive: the centre is in front), the cap of height R - dist, m^3, and its derivative
+// with respect to dist (-pi a^2, a^2 = R^2 - dist^2).
+VolumeSlope cap_volume(double R, double dist);
+
+// Where a grain is and how it moves, as CrowdList::of reads it.
+struct PointMotion {
+  Vec3 x, v;
+};
+
+// Each grain's neighbours within reach of its ball, and its Richardson-Zaki exponent; built
+// with the contact lists and valid as long as they are.
+class CrowdList {
+ public:
+  // From `found` (pairs i < j sorted by (i, j), within the balls' reach) over the particles
+  // of `world`; the exponents from each grain's terminal Reynolds number.
+  void build(const World& world, const std::vector<Pair>& found);
+  // The ball radii to search with: c r_i + reach_i, where probe_radius = r_i + reach_i.
+  static double probe_radius(const Fluid& fluid, double radius, double probe_radius) {
+    return probe_radius + (fluid.hindered_ball_ratio - 1) * radius;
+  }
+  bool empty() const { return start_.empty(); }
+
+  // The solid fraction of grain i's ball and its rate, positions and velocities from
+  // at(j) (a PointMotion).
+  template <class At>
+  Crowding of(const World& world, std::size_t i, const At& at) const {
+    const Particles& p = world.particles;
+    const PointMotion self = at(i);
+    const double r = p.radius[i], R = world.fluid.hindered_ball_ratio * r;
+    double solid = 4.0 / 3.0 * M_PI * r * r * r, solid_rate = 0;
+    for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
+      const std::uint32_t j = neighbour_[k];
+      const PointMotion other = at(j);
+      const Vec3 sep = world.domain.separation(other.x, self.x);
+      const double dist = norm(sep);
+      const VolumeSlope lens = lens_volume(R, p.radius[j], dist);
+      if (lens.volume == 0) continue;
+      solid += lens.volume;
+      if (lens.slope != 0) solid_rate += lens.slope * dot(sep, other.v - self.v) / dist;
+    }
+    double room = 4.0 / 3.0 * M_PI * R * R * R, room_rate = 0;
+    for (const Wall& w : world.walls) {
+      const double dist = w.distance(self.x);
+      if (dist >= R) continue;
+      const VolumeSlope cap = cap_volume(R, dist);
+      room -= cap.volume;
+      room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
+    }
+    return {solid / room, (solid_rate - solid / room * room_rate) / room, exponent_[i]};
+  }
+
+ private:
+  std::vector<std::uint32_t> start_;      // per particle + 1, offsets into neighbour_
+  std::vector<std::uint32_t> neighbour_;  // each particle's neighbours in ascending order
+  std::vector<double> exponent_;          // Richardson-Zaki n per particle
+};
+
+}  // namespace tsubu
