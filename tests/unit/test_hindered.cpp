@@ -137,8 +137,27 @@ TEST(HinderedSettling, TheDragRateIsExact) {
   }
 }
 
-// Grains in a periodic box with a floor: the force field's solid fraction of each ball
-// against Monte Carlo points (room: the ball in front of the floor), and its rate against
+// The suspension's solid fraction from a ball's content solves its equation; a lone grain
+// sees none.
+TEST(HinderedVolumes, SuspensionFractionSolvesTheCorrelationHoleEquation) {
+  const double own = 1, room = 27;
+  EXPECT_EQ(suspension_fraction(0, 0, room, 0, own).solid_fraction, 0.0);
+  for (double solid : {0.01, 0.5, 3.0, 8.0, 15.0}) {
+    const double phi = suspension_fraction(solid, 0, room, 0, own).solid_fraction;
+    const double s = std::pow(1 - phi, 4) / std::pow(1 + 2 * phi, 2);
+    EXPECT_NEAR(phi * room, solid + own * (1 - s), 1e-12 * room) << solid;
+    EXPECT_GT(phi, solid / room);
+    // The rate: the change of phi with the content and the room.
+    const double h = 1e-6, rate = suspension_fraction(solid, 2.0, room, -1.0, own).rate;
+    const double numeric = (suspension_fraction(solid + 2 * h, 0, room - h, 0, own).solid_fraction -
+                            suspension_fraction(solid - 2 * h, 0, room + h, 0, own).solid_fraction) / (2 * h);
+    EXPECT_NEAR(rate, numeric, 1e-7 * std::abs(rate)) << solid;
+  }
+}
+
+// Grains in a periodic box with a floor: the force field's solid fraction around each grain
+// against Monte Carlo points (the other grains' share of the ball in front of the floor,
+// corrected as suspension_fraction does), and its rate against
 // the change when every grain moves on by v h.
 TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
   World w = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-6);
@@ -159,24 +178,26 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
   ForceField forces;
   forces.compute(w);
   const Particles& p = w.particles;
-  auto solid_at = [&](const Vec3& y) {
-    for (std::size_t j = 0; j < p.size(); ++j)
-      if (norm(w.domain.separation(y, p.position[j])) < p.radius[j]) return true;
-    return false;
-  };
   for (std::size_t i : {0u, 17u, 42u, 99u, 140u}) {
-    const double R = 3 * p.radius[i];
+    const double R = 3 * p.radius[i], own = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
     int inside = 0, filled = 0;
     for (int k = 0; k < 40000; ++k) {
       const Vec3 y = p.position[i] + R * Vec3{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};
       if (norm(y - p.position[i]) > R || y.z < 0) continue;
       ++inside;
-      filled += solid_at(w.domain.wrap(y));
+      for (std::size_t j = 0; j < p.size(); ++j)
+        if (j != i && norm(w.domain.separation(w.domain.wrap(y), p.position[j])) < p.radius[j]) {
+          ++filled;
+          break;
+        }
     }
-    const double phi = double(filled) / inside, se = std::sqrt(phi * (1 - phi) / inside);
+    const double room = 4.0 / 3.0 * M_PI * R * R * R - cap_volume(R, p.position[i].z).volume;
+    const double share = double(filled) / inside, se = std::sqrt(share * (1 - share) / inside);
+    const double expected = suspension_fraction(share * room, 0, room, 0, own).solid_fraction;
     const Crowding c = forces.crowding(i);
-    std::printf("grain %zu at z = %.4f m: phi %.4f, Monte Carlo %.4f +- %.4f\n", i, p.position[i].z, c.solid_fraction, phi, se);
-    EXPECT_NEAR(c.solid_fraction, phi, 4 * se + 1e-3);
+    std::printf("grain %zu at z = %.4f m: others fill %.4f +- %.4f of the ball: phi %.4f, expected %.4f\n", i,
+                p.position[i].z, share, se, c.solid_fraction, expected);
+    EXPECT_NEAR(c.solid_fraction, expected, 5 * se + 1e-3);
   }
   // The rate: move every grain by v h and measure again.
   const double h = 1e-7;

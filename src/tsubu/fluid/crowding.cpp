@@ -24,6 +24,28 @@ VolumeSlope cap_volume(double R, double dist) {
   return {M_PI / 3 * h * h * (3 * R - h), -M_PI * (R * R - dist * dist)};
 }
 
+SuspensionFraction suspension_fraction(double solid, double solid_rate, double room, double room_rate, double own) {
+  if (solid == 0) return {0, 0};  // a lone grain
+  // g(phi) = phi room - solid - own (1 - S(phi)) rises from <= 0 at solid/room to >= 0 at
+  // (solid + own)/room while room > 8 own (|S'| <= 8): Newton, kept inside the bracket.
+  auto structure = [](double phi, double* slope) {
+    const double a = 1 - phi, b = 1 + 2 * phi;
+    *slope = -4 * a * a * a * (2 + phi) / (b * b * b);
+    return a * a * a * a / (b * b);
+  };
+  double lo = solid / room, hi = (solid + own) / room, phi = lo, slope = 0;
+  for (int it = 0; it < 60; ++it) {
+    const double g = phi * room - solid - own * (1 - structure(phi, &slope));
+    (g < 0 ? lo : hi) = phi;
+    double next = phi - g / (room + own * slope);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - phi) <= 1e-15 * phi) break;
+    phi = next;
+  }
+  structure(phi, &slope);
+  return {phi, (solid_rate - phi * room_rate) / (room + own * slope)};
+}
+
 void CrowdList::build(const World& world, const std::vector<Pair>& found) {
   const Particles& p = world.particles;
   const std::size_t n = p.size();

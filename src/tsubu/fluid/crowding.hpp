@@ -1,7 +1,8 @@
-// The local solid fraction around each grain, for hindered settling (Fluid::hindered): the
-// share of a ball of radius R_i = c r_i (c = Fluid::hindered_ball_ratio) around grain i that
-// grains fill, from exact sphere-sphere intersection volumes, over the part of the ball in
-// front of every wall (docs/engine.md, "Hindered settling"). Its rate follows from the
+// The solid fraction around each grain, for hindered settling (Fluid::hindered): from the
+// volume that the other grains fill in a ball of radius R_i = c r_i (c =
+// Fluid::hindered_ball_ratio) around grain i, less the part behind any wall (exact
+// sphere-sphere intersection volumes), corrected for the correlation hole around a grain
+// (docs/engine.md, "Hindered settling"). A lone grain sees 0. The rate follows from the
 // derivatives of the same volumes, so the hindered drag's jerk is exact.
 #pragma once
 #include <cstdint>
@@ -33,6 +34,17 @@ struct PointMotion {
   Vec3 x, v;
 };
 
+// The solid fraction phi of a homogeneous suspension, and its rate, from what a ball around
+// one of its grains holds: the other grains' volume `solid` in the ball's `room` (m^3) and
+// their rates, and the grain's own volume. Around a grain the others are held off (the
+// correlation hole): on average the ball holds phi room - (1 - S) v of them, S the structure
+// factor at zero wave number, (1-phi)^4/(1+2 phi)^2 for hard spheres (Percus-Yevick), so phi
+// solves phi room = solid + (1 - S(phi)) v. A lone grain gets 0.
+struct SuspensionFraction {
+  double solid_fraction, rate;
+};
+SuspensionFraction suspension_fraction(double solid, double solid_rate, double room, double room_rate, double own);
+
 // Each grain's neighbours within reach of its ball, and its Richardson-Zaki exponent; built
 // with the contact lists and valid as long as they are.
 class CrowdList {
@@ -46,14 +58,14 @@ class CrowdList {
   }
   bool empty() const { return start_.empty(); }
 
-  // The solid fraction of grain i's ball and its rate, positions and velocities from
-  // at(j) (a PointMotion).
+  // The solid fraction around grain i and its rate (suspension_fraction), positions and
+  // velocities from at(j) (a PointMotion).
   template <class At>
   Crowding of(const World& world, std::size_t i, const At& at) const {
     const Particles& p = world.particles;
     const PointMotion self = at(i);
     const double r = p.radius[i], R = world.fluid.hindered_ball_ratio * r;
-    double solid = 4.0 / 3.0 * M_PI * r * r * r, solid_rate = 0;
+    double solid = 0, solid_rate = 0;  // of the other grains in the ball
     for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
       const std::uint32_t j = neighbour_[k];
       const PointMotion other = at(j);
@@ -72,7 +84,8 @@ class CrowdList {
       room -= cap.volume;
       room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
     }
-    return {solid / room, (solid_rate - solid / room * room_rate) / room, exponent_[i]};
+    const SuspensionFraction phi = suspension_fraction(solid, solid_rate, room, room_rate, 4.0 / 3.0 * M_PI * r * r * r);
+    return {phi.solid_fraction, phi.rate, exponent_[i]};
   }
 
  private:

@@ -34,7 +34,7 @@ struct Fluid {
   // Hindered settling (Richardson-Zaki): the drag of a grain whose surroundings hold solid
   // fraction phi is the lone grain's drag at the velocity u/(1-phi)^n, n the grain's
   // Richardson-Zaki exponent; phi is measured in a ball of hindered_ball_ratio grain radii
-  // around the grain (fluid/crowding.hpp).
+  // around the grain, the grain itself left out (fluid/crowding.hpp).
   bool hindered = false;
   double hindered_ball_ratio = 3;
 
