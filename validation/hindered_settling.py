@@ -24,11 +24,14 @@ from settling import NU, Sphere, terminal_speed  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SIZES = (2e-4, 2e-3)  # Re_t about 5 and 570
 FRACTIONS = (0.05, 0.1, 0.2, 0.3, 0.35)
-BOX = 10  # box side in diameters
+BOX = 16  # box side in diameters: 400 to 2700 grains, so that the mean over grains is a fair sample
 # Steady after many relaxation times of the lone grain (the hindered grain relaxes faster);
 # the speed is averaged over the last 40 % of the run.
 RELAXATIONS = 12
-QUICK_TOLERANCE = 0.03  # see docs/validation/hindered-settling.md: the scatter of the local fraction
+# The quick case's 380 grains sample the local fraction with a scatter of about 0.004 (some
+# 2 % of the speed at phi = 0.2), and the estimate keeps a bias of about 1 %
+# (docs/validation/hindered-settling.md): 5 %. Without hindrance the ratio would be 2.3.
+QUICK_TOLERANCE = 0.05
 
 
 def richardson_zaki_exponent(re):
@@ -42,8 +45,8 @@ def richardson_zaki_exponent(re):
     return 2.39
 
 
-def scenario(d, phi, seed):
-    side = BOX * d
+def scenario(d, phi, seed, box=BOX):
+    side = box * d
     return f"""
 [simulation]
 duration = 1
@@ -83,15 +86,15 @@ distribution = {{ type = "single", diameter = {d:g} }}
 """
 
 
-def run_case(d, phi, seed=1, relaxations=RELAXATIONS):
+def run_case(d, phi, seed=1, relaxations=RELAXATIONS, box=BOX):
     import tsubu
 
     sphere = Sphere(d)
     ut = terminal_speed(sphere)
     tau = ut / sphere.accel(0)  # the lone grain's time scale u_t / g'
-    sim = tsubu.Simulation(scenario(d, phi, seed))
+    sim = tsubu.Simulation(scenario(d, phi, seed, box))
     n_grains = sim.particle_count
-    measured_phi = n_grains * sphere.volume / (BOX * d) ** 3
+    measured_phi = n_grains * sphere.volume / (box * d) ** 3
     duration = relaxations * tau
     samples = []
     start = time.time()
@@ -150,7 +153,7 @@ def main():
         print("skipped: the tsubu Python module is not installed (bash tools/setup.sh)")
         sys.exit(77)
     if args.quick:
-        r = run_case(2e-4, 0.2, relaxations=6)
+        r = run_case(2e-4, 0.2, relaxations=6, box=10)
         print(f"d = 0.2 mm, phi = {r['phi']:.3f}: u = {r['u']:.5f} m/s, Richardson-Zaki {r['richardson_zaki']:.5f} m/s,"
               f" ratio {r['ratio']:.4f} ({r['wall_time_s']:.1f} s)")
         sys.exit(0 if abs(r["ratio"] - 1) < QUICK_TOLERANCE else 1)

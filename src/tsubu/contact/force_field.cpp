@@ -184,6 +184,13 @@ void ForceField::build_crowd_list(World& world, const Particles& probe, double m
   balls.radius.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) balls.radius[i] = CrowdList::probe_radius(world.fluid, p.radius[i], probe.radius[i]);
   grid_.find_pairs(balls, world.domain, margin, scratch);
+  // The search's reach c (r_i + r_j) is more than the balls need, r_i + r_j + (c - 1) max(r_i, r_j)
+  // (three times the pairs for one size): the others are dropped.
+  const double stretch = world.fluid.hindered_ball_ratio - 1;
+  std::erase_if(scratch, [&](const Pair& q) {
+    const double reach = probe.radius[q.i] + probe.radius[q.j] + stretch * std::max(p.radius[q.i], p.radius[q.j]) + margin;
+    return norm2(world.domain.separation(probe.position[q.i], probe.position[q.j])) >= reach * reach;
+  });
   crowd_list_.build(world, scratch);
   crowding_.resize(p.size());
 }

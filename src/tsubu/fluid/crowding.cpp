@@ -29,18 +29,21 @@ SuspensionFraction suspension_fraction(double solid, double solid_rate, double r
   // g(phi) = phi room - solid - own (1 - S(phi)) rises from <= 0 at solid/room to >= 0 at
   // (solid + own)/room while room > 8 own (|S'| <= 8): Newton, kept inside the bracket.
   auto structure = [](double phi, double* slope) {
-    const double a = 1 - phi, b = 1 + 2 * phi;
-    *slope = -4 * a * a * a * (2 + phi) / (b * b * b);
-    return a * a * a * a / (b * b);
+    const double a = 1 - phi, a3_b2 = a * a * a / ((1 + 2 * phi) * (1 + 2 * phi));
+    *slope = -4 * a3_b2 * (2 + phi) / (1 + 2 * phi);
+    return a3_b2 * a;
   };
-  double lo = solid / room, hi = (solid + own) / room, phi = lo, slope = 0;
-  for (int it = 0; it < 60; ++it) {
+  double lo = solid / room, hi = (solid + own) / room, slope = 0;
+  double phi = (solid + own * (1 - structure(lo, &slope))) / room;  // one fixed-point step from lo
+  for (int it = 0; it < 50; ++it) {
     const double g = phi * room - solid - own * (1 - structure(phi, &slope));
+    if (g == 0) break;
     (g < 0 ? lo : hi) = phi;
     double next = phi - g / (room + own * slope);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - phi) <= 1e-15 * phi) break;
+    if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+    const bool done = std::abs(next - phi) <= 1e-14 * phi;
     phi = next;
+    if (done) break;
   }
   structure(phi, &slope);
   return {phi, (solid_rate - phi * room_rate) / (room + own * slope)};

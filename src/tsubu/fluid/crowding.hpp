@@ -5,6 +5,7 @@
 // (docs/engine.md, "Hindered settling"). A lone grain sees 0. The rate follows from the
 // derivatives of the same volumes, so the hindered drag's jerk is exact.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -70,9 +71,10 @@ class CrowdList {
       const std::uint32_t j = neighbour_[k];
       const PointMotion other = at(j);
       const Vec3 sep = world.domain.separation(other.x, self.x);
-      const double dist = norm(sep);
+      const double reach = R + p.radius[j], dist2 = norm2(sep);
+      if (dist2 >= reach * reach) continue;
+      const double dist = std::sqrt(dist2);
       const VolumeSlope lens = lens_volume(R, p.radius[j], dist);
-      if (lens.volume == 0) continue;
       solid += lens.volume;
       if (lens.slope != 0) solid_rate += lens.slope * dot(sep, other.v - self.v) / dist;
     }
