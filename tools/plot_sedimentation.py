@@ -4,15 +4,18 @@
     plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
 
 Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
-examples/sedimentation/sweeps/ fig5-6, vacuum, finite-size, fig7 and fig8, and the
-series.csv of each fig8 case; only cases with status ok enter the figures. Writes into
---out (default: docs/validation of the repository):
+examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7, fig7-seeds, fig8, and
+the variants fig5-6-hindered, fig7-hindered with hindered settling, rcp-mono and rcp without
+friction), and the series.csv of each fig8 case; only cases with status ok enter the
+figures. Writes into --out (default: docs/validation of the repository):
 
     sedimentation-phi-z.png        solid fraction against Z without rattlers (Fig. 5)
     sedimentation-flux.png         porosity against the flux Q/Q_0, water and vacuum (Fig. 6)
     sedimentation-finite-size.png  porosity and Z against the box size L/d
-    sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7)
+    sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7),
+                                   with the frictionless deposits (random close packing)
     sedimentation-fig8.png         segregation Gamma of the two layers against time (Fig. 8)
+    sedimentation-hindered.png     porosity with and without hindered settling
     sedimentation.csv              one row per case of every sweep present
 
 A missing sweep is skipped and a figure without data is not drawn; both are said on stdout.
@@ -36,9 +39,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig8")
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig8", "fig5-6-hindered", "fig7-hindered",
+          "rcp-mono", "rcp")
 WITHOUT_FLUID = {"vacuum"}
-MIXTURES = {"fig7", "fig7-seeds", "fig8"}
+MIXTURES = {"fig7", "fig7-seeds", "fig8", "fig7-hindered", "rcp"}
+VARIANTS = {"fig5-6-hindered": "hindered", "fig7-hindered": "hindered", "rcp-mono": "frictionless",
+            "rcp": "frictionless"}  # the others: the paper's model
 TALBOT_PARAMETERS = {"S": "particles.0.distribution.exponent", "Sigma": "particles.0.distribution.spread"}
 POLY_EXAMPLE = {"S": 0.0, "Sigma": 2.0}  # poly.toml's Talbot exponent and spread
 D_MAX = 0.01        # m: the diameter of the one-size sweeps, d_max of the mixtures
@@ -49,7 +55,7 @@ RESULTS = ("porosity", "porosity_exact", "porosity_standard_error", "porosity_gr
            "coordination_no_rattlers", "coordination_no_rattlers_4", "gamma_upper", "gamma_lower",
            "wall_time_s", "particles")
 CSV_COLUMNS = ("sweep", "case", "status", "phi_0", "Q_over_Q0", "S", "Sigma", "L_over_d", "seed", "fluid",
-               *RESULTS)
+               "variant", *RESULTS)
 
 
 def wu_wang_porosity(d50_mm):
@@ -117,7 +123,7 @@ def case_from_row(folder, sweep, row):
             "Q_over_Q0": round(phi_0 / PHI_0_OF_Q_0, 6), "S": math.nan, "Sigma": math.nan,
             "L_over_d": round(box_size(row) / D_MAX, 2),
             "seed": int(row.get("simulation.seed") or 1),  # 1: the examples' seed
-            "fluid": "no" if sweep in WITHOUT_FLUID else "yes"}
+            "fluid": "no" if sweep in WITHOUT_FLUID else "yes", "variant": VARIANTS.get(sweep, "")}
     if sweep in MIXTURES:
         for name, key in TALBOT_PARAMETERS.items():
             case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
@@ -194,6 +200,12 @@ def plot_phi_z(sweeps, png):
                         color=colour, capsize=3,
                         marker="*" if medium == "vacuum" else marker, ms=12 if medium == "vacuum" else 7,
                         ls="none", label=f"{medium}, Q/Q0 = {q:g}")
+    frictionless = finished(sweeps, "rcp-mono")
+    if frictionless:
+        z, z_error = over_seeds(frictionless, "coordination_no_rattlers_4")
+        porosity, porosity_error = over_seeds(frictionless, "porosity", "porosity_standard_error")
+        ax.errorbar(z, 1 - porosity, xerr=z_error, yerr=porosity_error, color="k", marker="P", ms=9, ls="none",
+                    capsize=3, label="water, no friction, Q/Q0 = 1")
     z = np.linspace(3.5, 6.5, 50)
     ax.plot(z, song_wang_makse(z), "k-", lw=1, label="Song, Wang & Makse: φ = Z/(Z + 2√3)")
     ax.axhline(RANDOM_LOOSE, color="0.5", ls="--", lw=1, label=f"random loose packing {RANDOM_LOOSE}")
@@ -297,13 +309,54 @@ def plot_fig7(sweeps, png):
             ax.errorbar(spread, porosity, yerr=error, marker="o", capsize=3, color=f"C{n}", label=f"S = {exponent:g}")
             predicted = [wu_wang_porosity(talbot_statistics(exponent, s)[0] * 1e3) for s in spread]
             ax.plot(spread, predicted, ":", color=f"C{n}", label=f"Wu & Wang, S = {exponent:g}")
+            close = [(spread, over_seeds(g, "porosity")[0])
+                     for (spread,), g in by([c for c in finished(sweeps, "rcp") if c["S"] == exponent], "Sigma")]
+            if close:
+                ax.plot(*zip(*close), "-.", color=f"C{n}", lw=1, label=f"no friction (random close packing), S = {exponent:g}")
         ax.set_title(f"Q/Q0 = {q:g} (φ0 = {q * PHI_0_OF_Q_0:g})", fontsize="medium")
         ax.set_xlabel("spread Σ = ln(d_max/d_min)")
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L")
     axes[0][0].legend(fontsize="small")
     save(fig, png, f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}; dotted: Wu & Wang for each "
-                   "mixture's d50 by mass")
+                   "mixture's d50 by mass; dash-dot: the same mixture deposited without friction at Q0")
+    return True
+
+
+def plot_hindered(sweeps, png):
+    """Porosity with and without hindered settling: one size against the flux (left), the
+    mixtures at Q_0 against Sigma (right). False without hindered data."""
+    one_size, mixtures = finished(sweeps, "fig5-6-hindered"), finished(sweeps, "fig7-hindered")
+    if not one_size + mixtures:
+        return False
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    fluxes = sorted({c["Q_over_Q0"] for c in one_size})
+    for cases, label, style in ((finished(sweeps, "fig5-6"), "paper's fluid", "o-"), (one_size, "hindered settling", "s--")):
+        points = [(q, *over_seeds(g, "porosity", "porosity_standard_error"))
+                  for (q,), g in by(cases, "Q_over_Q0") if q in fluxes]
+        if points:
+            q, porosity, error = zip(*points)
+            left.errorbar(q, porosity, yerr=error, fmt=style, color="k", capsize=3, label=label)
+    left.set_xscale("log")
+    left.set_xticks(fluxes, [f"{q:g}" for q in fluxes])
+    left.minorticks_off()
+    left.set_xlabel("flux Q/Q0")
+    left.set_ylabel("porosity of 0.15 L < z < 0.35 L")
+    left.set_title(f"One size, d = 1 cm, {box_label(one_size or finished(sweeps, 'fig5-6'))}", fontsize="medium")
+    plain = [c for c in fig7_cases(sweeps) if c["Q_over_Q0"] == 1]
+    for cases, label, style in ((plain, "paper's fluid", "o-"), (mixtures, "hindered", "s--")):
+        for n, ((exponent,), line) in enumerate(by(cases, "S")):
+            points = [(spread, *over_seeds(g, "porosity", "porosity_standard_error")) for (spread,), g in by(line, "Sigma")]
+            spread, porosity, error = zip(*points)
+            right.errorbar(spread, porosity, yerr=error, fmt=style, color=f"C{n}", capsize=3,
+                           label=f"S = {exponent:g}, {label}")
+    right.set_xlabel("spread Σ = ln(d_max/d_min)")
+    right.set_title(f"Talbot mixtures at Q/Q0 = 1, {box_label(mixtures or plain)}", fontsize="medium")
+    for ax in (left, right):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+    save(fig, png, "Hindered settling (Richardson-Zaki) against the paper's fluid; "
+                   "error bars: standard deviation over the seeds")
     return True
 
 
@@ -407,15 +460,16 @@ MIXTURE = ("porosity", "porosity_exact", "porosity_grains", "coordination_no_rat
 def markdown(sweeps):
     """The report's tables (Markdown), one per sweep present, then the mixtures' statistics."""
     lines = []
-    one_size = (("Figs. 5-6, one size", finished(sweeps, "fig5-6") + finished(sweeps, "vacuum")),
+    one_size = (("Figs. 5-6, one size", finished(sweeps, "fig5-6") + finished(sweeps, "vacuum")
+                 + finished(sweeps, "fig5-6-hindered") + finished(sweeps, "rcp-mono")),
                 ("Finite size, one size", finished(sweeps, "finite-size")))
     for title, cases in one_size:
         if cases:
-            rows = [[fluid, f"{size:g}", f"{q:g}", str(len(g)), *deposit_cells(g, ONE_SIZE)]
-                    for (fluid, size, q), g in by(cases, "fluid", "L_over_d", "Q_over_Q0")]
+            rows = [[fluid, variant or "–", f"{size:g}", f"{q:g}", str(len(g)), *deposit_cells(g, ONE_SIZE)]
+                    for (fluid, variant, size, q), g in by(cases, "fluid", "variant", "L_over_d", "Q_over_Q0")]
             lines += [f"{title} (mean ± standard deviation over the seeds):", "",
-                      *table(["fluid", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
-    mixtures = fig7_cases(sweeps) + finished(sweeps, "fig8")
+                      *table(["fluid", "variant", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
+    mixtures = fig7_cases(sweeps) + finished(sweeps, "fig8") + finished(sweeps, "fig7-hindered") + finished(sweeps, "rcp")
     if mixtures:
         rows = [[sweep, f"{q:g}", f"{exponent:g}", f"{spread:g}", str(len(g)), *deposit_cells(g, MIXTURE)]
                 for (sweep, q, exponent, spread), g in by(mixtures, "sweep", "Q_over_Q0", "S", "Sigma")]
@@ -453,7 +507,8 @@ def main():
                ("sedimentation-flux.png", plot_flux, "fig5-6 or vacuum"),
                ("sedimentation-finite-size.png", plot_finite_size, "finite-size"),
                ("sedimentation-fig7.png", plot_fig7, "fig7"),
-               ("sedimentation-fig8.png", plot_fig8, "fig8"))
+               ("sedimentation-fig8.png", plot_fig8, "fig8"),
+               ("sedimentation-hindered.png", plot_hindered, "fig5-6-hindered or fig7-hindered"))
     for name, draw, needs in figures:
         if draw(sweeps, args.out / name):
             print(args.out / name)

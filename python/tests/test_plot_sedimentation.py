@@ -101,6 +101,12 @@ def sweeps(tmp_path):
                                     "particles.0.distribution.spread": spread}, "ok")
                                    for s in (0, 1, 2) for phi in (0.1, 0.01) for spread in (0.5, 1.0, 2.0)])
     write_results(root / "fig8", [({"particles.0.solid_fraction": phi}, "ok") for phi in (0.1, 0.01)])
+    write_results(root / "fig5-6-hindered", [(one_size(phi, seed), "ok") for phi in (0.3, 0.1) for seed in (1, 2, 3)])
+    write_results(root / "rcp-mono", [(one_size(0.1, seed), "ok") for seed in (1, 2, 3)])
+    for sweep in ("fig7-hindered", "rcp"):
+        write_results(root / sweep, [({"particles.0.distribution.exponent": s, "particles.0.solid_fraction": 0.1,
+                                       "particles.0.distribution.spread": spread}, "ok")
+                                      for s in (0, 1, 2) for spread in (0.5, 1.0, 2.0)])
     for n in range(2):
         case = root / "fig8" / f"case{n}"
         case.mkdir()
@@ -122,11 +128,11 @@ def run(*args):
 def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
     out = tmp_path / "out"
     printed = run("--sweeps", sweeps, "--out", out)
-    for name in ("phi-z", "flux", "finite-size", "fig7", "fig8"):
+    for name in ("phi-z", "flux", "finite-size", "fig7", "fig8", "hindered"):
         assert (out / f"sedimentation-{name}.png").stat().st_size > 10_000, printed
     with open(out / "sedimentation.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 12 + 9 + 9 + 18 + 2
+    assert len(rows) == 12 + 9 + 9 + 18 + 2 + 6 + 9 + 3 + 9
     assert "sweep fig5-6: 10 of 12 cases ok" in printed
     failed = next(r for r in rows if r["status"] == "failed")
     assert failed["porosity"] == "" and failed["Q_over_Q0"] == "0.1"
@@ -139,6 +145,9 @@ def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
     assert {r["fluid"] for r in vacuum} == {"no"} and vacuum[0]["S"] == ""
     fig8 = [r for r in rows if r["sweep"] == "fig8"]
     assert [(r["S"], r["Sigma"]) for r in fig8] == [("0", "2"), ("0", "2")]
+    assert {r["variant"] for r in rows if r["sweep"] in ("fig5-6-hindered", "fig7-hindered")} == {"hindered"}
+    assert {r["variant"] for r in rows if r["sweep"] in ("rcp-mono", "rcp")} == {"frictionless"}
+    assert {r["variant"] for r in rows if r["sweep"] == "fig7"} == {""}
 
 
 def test_missing_sweeps_are_skipped_and_said(sweeps, tmp_path):
@@ -149,15 +158,19 @@ def test_missing_sweeps_are_skipped_and_said(sweeps, tmp_path):
     assert "sedimentation-phi-z.png: not drawn" in printed
     assert "sedimentation-fig7.png: not drawn" in printed
     assert "sweep vacuum: no " in printed
-    assert sorted(p.name for p in out.glob("*.png")) == ["sedimentation-fig8.png", "sedimentation-finite-size.png"]
+    assert sorted(p.name for p in out.glob("*.png")) == ["sedimentation-fig8.png", "sedimentation-finite-size.png",
+                                                           "sedimentation-hindered.png"]
 
 
 def test_markdown_tables(sweeps, tmp_path):
     printed = run("--sweeps", sweeps, "--out", tmp_path / "out", "--markdown")
     assert not (tmp_path / "out").exists()
-    assert "| fluid | L/d | Q/Q0 | seeds | porosity |" in printed
-    assert "| no | 8 | 0.1 | 3 |" in printed
-    assert "| yes | 16 | 1 | 3 |" in printed
+    assert "| fluid | variant | L/d | Q/Q0 | seeds | porosity |" in printed
+    assert "| no | – | 8 | 0.1 | 3 |" in printed
+    assert "| yes | – | 16 | 1 | 3 |" in printed
+    assert "| yes | hindered | 8 | 3 | 3 |" in printed
+    assert "| yes | frictionless | 8 | 1 | 3 |" in printed
+    assert "| fig7-hindered | 1 | 0 | 2 | 1 |" in printed
     d50, delta, skewness = plot.talbot_statistics(0, 2.0)
     assert f"| 0 | 2 | 1.35 | {d50 * 1e3:.2f} | {delta:.3f} | {skewness:.2f} |" in printed
     assert "No finished case" not in printed

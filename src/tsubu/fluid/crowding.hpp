@@ -40,7 +40,8 @@ struct PointMotion {
 // their rates, and the grain's own volume. Around a grain the others are held off (the
 // correlation hole): on average the ball holds phi room - (1 - S) v of them, S the structure
 // factor at zero wave number, (1-phi)^4/(1+2 phi)^2 for hard spheres (Percus-Yevick), so phi
-// solves phi room = solid + (1 - S(phi)) v. A lone grain gets 0.
+// solves phi room = solid + (1 - S(phi)) v. A lone grain gets 0. Needs room > 12 v (a ball of
+// at least 2.5 radii, Fluid::hindered_ball_ratio).
 struct SuspensionFraction {
   double solid_fraction, rate;
 };

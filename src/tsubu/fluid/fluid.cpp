@@ -46,6 +46,7 @@ struct Load {
 // (1 - phi)^-n with the rate of phi, on double (values) or Dual (rates).
 template <class T>
 T hindrance_of(const Crowding& c) {
+  if (c.solid_fraction == 0) return T(1.0);  // alone: phi and its rate are 0
   const double s = std::pow(1 - c.solid_fraction, -c.exponent);
   if constexpr (std::is_same_v<T, double>) return s;
   else return T(s, c.exponent * s / (1 - c.solid_fraction) * c.rate);  // d/dt (1-phi)^-n = n (1-phi)^(-n-1) dphi/dt

@@ -507,8 +507,8 @@ void read_fluid(Section s, Scenario& sc) {
   if (s.has("hindered_ball_ratio")) {
     if (!f.hindered) s.fail("hindered_ball_ratio", "is used only with hindered_settling = true");
     f.hindered_ball_ratio = s.real("hindered_ball_ratio");
-    if (!(f.hindered_ball_ratio >= 1) || !std::isfinite(f.hindered_ball_ratio))
-      s.fail("hindered_ball_ratio", "the ball around each grain must hold the grain: a ratio >= 1 (default 3)" + got(f.hindered_ball_ratio));
+    if (!(f.hindered_ball_ratio >= 2.5) || !std::isfinite(f.hindered_ball_ratio))
+      s.fail("hindered_ball_ratio", "the ball around each grain must be at least 2.5 grain radii (default 3)" + got(f.hindered_ball_ratio));
   }
   if (f.hindered && !f.drag) s.fail("hindered_settling", "hinders the drag: it needs drag = true");
   sc.fluid_where = {s.file(), s.line_of("hindered_ball_ratio"), s.key_path("hindered_ball_ratio")};
