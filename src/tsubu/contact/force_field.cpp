@@ -98,7 +98,7 @@ void ForceField::compute(World& world, double fluid_lead) {
   if (!crowd_list_.empty()) {
     const Particles& p = world.particles;
     parallel_for(p.size(), [&](std::size_t i) {
-      crowding_[i] = crowd_list_.of(world, i, [&](std::size_t j) { return PointMotion{p.position[j], p.velocity[j]}; });
+      crowding_[i] = crowd_list_.of<false>(world, i, [&](std::size_t j) { return PointMotion{p.position[j], p.velocity[j]}; });
     });
   }
   accumulate(world, fluid_lead);

@@ -141,7 +141,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   if (!crowd_list_.empty())
     parallel_for(active.size(), [&](std::size_t q) {
       const std::uint32_t i = active[q];
-      crowding_[i] = crowd_list_.of(world, i, [&](std::size_t j) {
+      crowding_[i] = crowd_list_.of<true>(world, i, [&](std::size_t j) {
         const Kinematics k = kin.at(j);
         return PointMotion{k.x, k.v};
       });

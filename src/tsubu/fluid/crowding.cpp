@@ -5,18 +5,6 @@
 
 namespace tsubu {
 
-VolumeSlope lens_volume(double R, double r, double dist) {
-  if (dist >= R + r) return {};
-  const double small = std::min(R, r);
-  if (dist <= std::abs(R - r)) return {4.0 / 3.0 * M_PI * small * small * small, 0};
-  // The circle where the spheres meet lies at x from the ball's centre; the lens is a cap of
-  // each sphere: heights R - x and r - (dist - x).
-  const double x = (dist * dist + R * R - r * r) / (2 * dist);
-  const double h1 = R - x, h2 = r - (dist - x);
-  const double volume = M_PI / 3 * (h1 * h1 * (3 * R - h1) + h2 * h2 * (3 * r - h2));
-  return {volume, -M_PI * (R * R - x * x)};
-}
-
 VolumeSlope cap_volume(double R, double dist) {
   if (dist >= R) return {};
   if (dist <= -R) return {4.0 / 3.0 * M_PI * R * R * R, 0};

@@ -5,6 +5,7 @@
 // (docs/engine.md, "Hindered settling"). A lone grain sees 0. The rate follows from the
 // derivatives of the same volumes, so the hindered drag's jerk is exact.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -23,7 +24,17 @@ struct VolumeSlope {
 // The intersection of balls of radii R and r whose centres are `dist` apart, m^3, and its
 // derivative with respect to dist: -pi a^2, a the radius of the circle where the spheres
 // meet (zero when apart and when one lies inside the other, so the volume is C^1 in dist).
-VolumeSlope lens_volume(double R, double r, double dist);
+inline VolumeSlope lens_volume(double R, double r, double dist) {
+  if (dist >= R + r) return {};
+  const double small = std::min(R, r);
+  if (dist <= std::abs(R - r)) return {4.0 / 3.0 * M_PI * small * small * small, 0};
+  // The circle where the spheres meet lies at x from the ball's centre; the lens is a cap of
+  // each sphere: heights R - x and r - (dist - x).
+  const double x = (dist * dist + R * R - r * r) / (2 * dist);
+  const double h1 = R - x, h2 = r - (dist - x);
+  const double volume = M_PI / 3 * (h1 * h1 * (3 * R - h1) + h2 * h2 * (3 * r - h2));
+  return {volume, -M_PI * (R * R - x * x)};
+}
 
 // The part of a ball of radius R beyond a plane at signed distance `dist` from its centre
 // (positive: the centre is in front), the cap of height R - dist, m^3, and its derivative
@@ -60,9 +71,9 @@ class CrowdList {
   }
   bool empty() const { return start_.empty(); }
 
-  // The solid fraction around grain i and its rate (suspension_fraction), positions and
-  // velocities from at(j) (a PointMotion).
-  template <class At>
+  // The solid fraction around grain i and its rate (suspension_fraction; the rate only with
+  // `Rates`, zero without), positions and velocities from at(j) (a PointMotion).
+  template <bool Rates, class At>
   Crowding of(const World& world, std::size_t i, const At& at) const {
     const Particles& p = world.particles;
     const PointMotion self = at(i);
@@ -77,7 +88,7 @@ class CrowdList {
       const double dist = std::sqrt(dist2);
       const VolumeSlope lens = lens_volume(R, p.radius[j], dist);
       solid += lens.volume;
-      if (lens.slope != 0) solid_rate += lens.slope * dot(sep, other.v - self.v) / dist;
+      if (Rates && lens.slope != 0) solid_rate += lens.slope * dot(sep, other.v - self.v) / dist;
     }
     double room = 4.0 / 3.0 * M_PI * R * R * R, room_rate = 0;
     for (const Wall& w : world.walls) {
@@ -85,7 +96,7 @@ class CrowdList {
       if (dist >= R) continue;
       const VolumeSlope cap = cap_volume(R, dist);
       room -= cap.volume;
-      room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
+      if (Rates) room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
     }
     const SuspensionFraction phi = suspension_fraction(solid, solid_rate, room, room_rate, 4.0 / 3.0 * M_PI * r * r * r);
     return {phi.solid_fraction, phi.rate, exponent_[i]};
