@@ -4,7 +4,7 @@
     plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
 
 Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
-examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7, fig7-seeds, fig8, and
+examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7, fig7-seeds, fig7-seeds-low, fig8, and
 the variants fig5-6-hindered, fig7-hindered with hindered settling, rcp-mono and rcp without
 friction), and the series.csv of each fig8 case; only cases with status ok enter the
 figures. Writes into --out (default: docs/validation of the repository):
@@ -39,10 +39,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig8", "fig5-6-hindered", "fig7-hindered",
-          "rcp-mono", "rcp")
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig7-seeds-low", "fig8", "fig5-6-hindered",
+          "fig7-hindered", "rcp-mono", "rcp")
 WITHOUT_FLUID = {"vacuum"}
-MIXTURES = {"fig7", "fig7-seeds", "fig8", "fig7-hindered", "rcp"}
+MIXTURES = {"fig7", "fig7-seeds", "fig7-seeds-low", "fig8", "fig7-hindered", "rcp"}
 VARIANTS = {"fig5-6-hindered": "hindered", "fig7-hindered": "hindered", "rcp-mono": "frictionless",
             "rcp": "frictionless"}  # the others: the paper's model
 TALBOT_PARAMETERS = {"S": "particles.0.distribution.exponent", "Sigma": "particles.0.distribution.spread"}
@@ -288,8 +288,10 @@ def plot_finite_size(sweeps, png):
 
 
 def fig7_cases(sweeps):
-    """The finished mixtures of Fig. 7: fig7's (seed 1) pooled with fig7-seeds' (more seeds)."""
-    return finished(sweeps, "fig7") + [{**c, "sweep": "fig7"} for c in finished(sweeps, "fig7-seeds")]
+    """The finished mixtures of Fig. 7: fig7's (seed 1) pooled with fig7-seeds' and
+    fig7-seeds-low's (more seeds)."""
+    return finished(sweeps, "fig7") + [{**c, "sweep": "fig7"} for extra in ("fig7-seeds", "fig7-seeds-low")
+                                       for c in finished(sweeps, extra)]
 
 
 def plot_fig7(sweeps, png):
@@ -483,7 +485,7 @@ def markdown(sweeps):
         lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution):", "",
                   *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity"], rows), ""]
     lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS
-              if sweep != "fig7-seeds" and not finished(sweeps, sweep)]  # fig7-seeds only adds seeds to fig7
+              if sweep not in ("fig7-seeds", "fig7-seeds-low") and not finished(sweeps, sweep)]  # they add seeds to fig7
     return "\n".join(lines)
 
 
