@@ -478,12 +478,16 @@ def markdown(sweeps):
         lines += ["Figs. 7-8, Talbot mixtures (±: the standard deviation over the seeds, for one seed the Monte Carlo standard error; Γ at the stop):", "",
                   *table(["sweep", "Q/Q0", "S", "Σ", "seeds", *(COLUMNS[k][0] for k in MIXTURE)], rows), ""]
         rows = []
-        for exponent, spread in sorted({(c["S"], c["Sigma"]) for c in mixtures}):
+        close = finished(sweeps, "rcp")
+        for exponent, spread in sorted({(c["S"], c["Sigma"]) for c in mixtures if c["sweep"] != "rcp"}):
             d50, delta, skewness = talbot_statistics(exponent, spread)
+            rcp = over_seeds([c for c in close if (c["S"], c["Sigma"]) == (exponent, spread)], "porosity")[0]
             rows.append([f"{exponent:g}", f"{spread:g}", f"{D_MAX * math.exp(-spread) * 1e3:.2f}", f"{d50 * 1e3:.2f}",
-                         f"{delta:.3f}", f"{skewness:.2f}", f"{wu_wang_porosity(d50 * 1e3):.3f}"])
-        lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution):", "",
-                  *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity"], rows), ""]
+                         f"{delta:.3f}", f"{skewness:.2f}", f"{wu_wang_porosity(d50 * 1e3):.3f}", cell(rcp)])
+        lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution; random close"
+                  " packing: the porosity of the frictionless deposit, rcp.toml):", "",
+                  *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity",
+                          "random close packing porosity"], rows), ""]
     lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS
               if sweep not in ("fig7-seeds", "fig7-seeds-low") and not finished(sweeps, sweep)]  # they add seeds to fig7
     return "\n".join(lines)
