@@ -7,7 +7,7 @@ namespace tsubu {
 
 VolumeSlope cap_volume(double R, double dist) {
   if (dist >= R) return {};
-  if (dist <= -R) return {4.0 / 3.0 * M_PI * R * R * R, 0};
+  if (dist <= -R) return {ball_volume(R), 0};
   const double h = R - dist;
   return {M_PI / 3 * h * h * (3 * R - h), -M_PI * (R * R - dist * dist)};
 }

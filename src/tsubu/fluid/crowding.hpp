@@ -21,13 +21,16 @@ struct VolumeSlope {
   double volume = 0, slope = 0;
 };
 
+// The volume of a ball of radius r, m^3.
+inline double ball_volume(double r) { return 4.0 / 3.0 * M_PI * r * r * r; }
+
 // The intersection of balls of radii R and r whose centres are `dist` apart, m^3, and its
 // derivative with respect to dist: -pi a^2, a the radius of the circle where the spheres
 // meet (zero when apart and when one lies inside the other, so the volume is C^1 in dist).
 inline VolumeSlope lens_volume(double R, double r, double dist) {
   if (dist >= R + r) return {};
   const double small = std::min(R, r);
-  if (dist <= std::abs(R - r)) return {4.0 / 3.0 * M_PI * small * small * small, 0};
+  if (dist <= std::abs(R - r)) return {ball_volume(small), 0};
   // The circle where the spheres meet lies at x from the ball's centre; the lens is a cap of
   // each sphere: heights R - x and r - (dist - x).
   const double x = (dist * dist + R * R - r * r) / (2 * dist);
@@ -90,7 +93,7 @@ class CrowdList {
       solid += lens.volume;
       if (Rates && lens.slope != 0) solid_rate += lens.slope * dot(sep, other.v - self.v) / dist;
     }
-    double room = 4.0 / 3.0 * M_PI * R * R * R, room_rate = 0;
+    double room = ball_volume(R), room_rate = 0;
     for (const Wall& w : world.walls) {
       const double dist = w.distance(self.x);
       if (dist >= R) continue;
@@ -98,7 +101,7 @@ class CrowdList {
       room -= cap.volume;
       if (Rates) room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
     }
-    const SuspensionFraction phi = suspension_fraction(solid, solid_rate, room, room_rate, 4.0 / 3.0 * M_PI * r * r * r);
+    const SuspensionFraction phi = suspension_fraction(solid, solid_rate, room, room_rate, ball_volume(r));
     return {phi.solid_fraction, phi.rate, exponent_[i]};
   }
 
