@@ -4,16 +4,18 @@
     plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
 
 Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
-examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7, fig7-seeds, fig7-seeds-low, fig8, and
-the variants fig5-6-hindered, fig7-hindered with hindered settling, rcp-mono and rcp without
-friction), and the series.csv of each fig8 case; only cases with status ok enter the
-figures. Writes into --out (default: docs/validation of the repository):
+examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7-rest (the mixtures at rest),
+fig7-stop (the same by the paper's protocol), fig8, and the variants fig5-6-hindered,
+fig7-hindered with hindered settling, rcp-mono and rcp without friction), and the series.csv
+of each fig8 case; only cases with status ok enter the figures. Writes into --out (default:
+docs/validation of the repository):
 
     sedimentation-phi-z.png        solid fraction against Z without rattlers (Fig. 5)
     sedimentation-flux.png         porosity against the flux Q/Q_0, water and vacuum (Fig. 6)
     sedimentation-finite-size.png  porosity and Z against the box size L/d
     sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7),
-                                   with the frictionless deposits (random close packing)
+                                   a panel per friction law, at rest and by the paper's
+                                   protocol, with the frictionless deposits and Desmond & Weeks
     sedimentation-fig8.png         segregation Gamma of the two layers against time (Fig. 8)
     sedimentation-hindered.png     porosity with and without hindered settling
     sedimentation.csv              one row per case of every sweep present
@@ -21,8 +23,9 @@ figures. Writes into --out (default: docs/validation of the repository):
 A missing sweep is skipped and a figure without data is not drawn; both are said on stdout.
 With --markdown the script writes nothing and prints the report's tables to stdout instead.
 
-Values are means over the seeds of a case; error bars are the standard deviation over the
-seeds, or with one seed the Monte Carlo standard error of the porosity (none for Z).
+Values are means over the seeds of a case; error bars are the standard error of that mean
+(standard deviation over the seeds / sqrt(seeds)); a case of one seed has none (the Monte
+Carlo error of one deposit understates the scatter between deposits several times).
 
 Needs Debian's /usr/bin/python3 with python3-numpy and python3-matplotlib (not the tsubu
 module).
@@ -39,10 +42,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7", "fig7-seeds", "fig7-seeds-low", "fig8", "fig5-6-hindered",
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7-rest", "fig7-stop", "fig8", "fig5-6-hindered",
           "fig7-hindered", "rcp-mono", "rcp")
 WITHOUT_FLUID = {"vacuum"}
-MIXTURES = {"fig7", "fig7-seeds", "fig7-seeds-low", "fig8", "fig7-hindered", "rcp"}
+MIXTURES = {"fig7-rest", "fig7-stop", "fig8", "fig7-hindered", "rcp"}
+LAWS = {"total": "bounded", "spring": "as printed"}  # contact.default.friction_bound
 VARIANTS = {"fig5-6-hindered": "hindered", "fig7-hindered": "hindered", "rcp-mono": "frictionless",
             "rcp": "frictionless"}  # the others: the paper's model
 TALBOT_PARAMETERS = {"S": "particles.0.distribution.exponent", "Sigma": "particles.0.distribution.spread"}
@@ -55,12 +59,25 @@ RESULTS = ("porosity", "porosity_exact", "porosity_standard_error", "porosity_gr
            "coordination_no_rattlers", "coordination_no_rattlers_4", "gamma_upper", "gamma_lower",
            "wall_time_s", "particles")
 CSV_COLUMNS = ("sweep", "case", "status", "phi_0", "Q_over_Q0", "S", "Sigma", "L_over_d", "seed", "fluid",
-               "variant", *RESULTS)
+               "variant", "law", *RESULTS)
 
 
 def wu_wang_porosity(d50_mm):
     """Porosity of a deposit of median grain size d50 (mm) by Wu & Wang (2006)."""
     return 0.13 + 0.21 / (d50_mm + 0.002) ** 0.21
+
+
+def desmond_weeks_porosity(delta, skewness):
+    """Porosity of the frictionless random close packing of spheres whose radii have
+    polydispersity delta (standard deviation over mean) and skewness, by Desmond & Weeks
+    (2014): phi_RCP = 0.634 + 0.0658 delta + 0.0857 S delta^2 (fitted for delta <= 0.4)."""
+    return 1 - (0.634 + 0.0658 * delta + 0.0857 * skewness * delta ** 2)
+
+
+def sorting(exponent, spread):
+    """(geometric sorting sqrt(d84/d16), Trask's sqrt(d75/d25)), by mass, of a Talbot mixture."""
+    q = {f: mass_quantile(exponent, spread, f) for f in (0.16, 0.25, 0.75, 0.84)}
+    return math.sqrt(q[0.84] / q[0.16]), math.sqrt(q[0.75] / q[0.25])
 
 
 def song_wang_makse(z):
@@ -69,15 +86,11 @@ def song_wang_makse(z):
     return z / (z + 2 * math.sqrt(3))
 
 
-def talbot_statistics(exponent, spread, d_max=D_MAX, points=20001):
-    """(d50 by mass, polydispersity, skewness) of a Talbot distribution.
-
-    The number density of diameters is n(d) ~ d^(exponent - 3) on [d_min, d_max],
-    d_min = d_max exp(-spread), so the mass density is ~ d^exponent. d50 is the diameter
-    below which half of the mass lies; the polydispersity delta is the standard deviation
-    of the diameter over its mean and the skewness the third standardised moment, both of
-    the number distribution. Integrated by the trapezoidal rule in ln d on `points` points.
-    """
+def talbot_moments(exponent, spread, d_max=D_MAX, points=20001):
+    """(d, mass finer than d (fraction), [number moments <d^0> ... <d^3>, unnormalised]) of a
+    Talbot distribution: the number density of diameters is n(d) ~ d^(exponent - 3) on
+    [d_min, d_max], d_min = d_max exp(-spread), so the mass density is ~ d^exponent.
+    Integrated by the trapezoidal rule in ln d on `points` points."""
     log_d = np.linspace(math.log(d_max) - spread, math.log(d_max), points)
     d = np.exp(log_d)
     number = d ** (exponent - 2)  # n(d) dd = d^(exponent - 3) d dln(d)
@@ -86,8 +99,22 @@ def talbot_statistics(exponent, spread, d_max=D_MAX, points=20001):
         return np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(log_d))])
 
     mass = cumulative(number * d ** 3)
-    d50 = float(np.interp(0.5 * mass[-1], mass, d))
-    moments = [cumulative(number * d ** k)[-1] for k in range(4)]
+    return d, mass / mass[-1], [cumulative(number * d ** k)[-1] for k in range(4)]
+
+
+def mass_quantile(exponent, spread, fraction):
+    """The diameter below which `fraction` of a Talbot distribution's mass lies (d50: 0.5)."""
+    d, finer, _ = talbot_moments(exponent, spread)
+    return float(np.interp(fraction, finer, d))
+
+
+def talbot_statistics(exponent, spread):
+    """(d50 by mass, polydispersity, skewness) of a Talbot distribution: d50 is the diameter
+    below which half of the mass lies; the polydispersity delta is the standard deviation
+    of the diameter over its mean and the skewness the third standardised moment, both of
+    the number distribution."""
+    d50 = mass_quantile(exponent, spread, 0.5)
+    _, _, moments = talbot_moments(exponent, spread)
     mean = moments[1] / moments[0]
     variance = moments[2] / moments[0] - mean ** 2
     third = moments[3] / moments[0] - 3 * mean * moments[2] / moments[0] + 2 * mean ** 3
@@ -123,7 +150,8 @@ def case_from_row(folder, sweep, row):
             "Q_over_Q0": round(phi_0 / PHI_0_OF_Q_0, 6), "S": math.nan, "Sigma": math.nan,
             "L_over_d": round(box_size(row) / D_MAX, 2),
             "seed": int(row.get("simulation.seed") or 1),  # 1: the examples' seed
-            "fluid": "no" if sweep in WITHOUT_FLUID else "yes", "variant": VARIANTS.get(sweep, "")}
+            "fluid": "no" if sweep in WITHOUT_FLUID else "yes", "variant": VARIANTS.get(sweep, ""),
+            "law": LAWS.get(row.get("contact.default.friction_bound", ""), "")}
     if sweep in MIXTURES:
         for name, key in TALBOT_PARAMETERS.items():
             case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
@@ -158,17 +186,25 @@ def by(cases, *keys):
     return sorted(groups.items(), key=lambda item: item[0])
 
 
-def over_seeds(cases, key, single_error=None):
+def over_seeds(cases, key):
     """(mean, error) of a quantity over the cases of one group (its seeds): the error is the
-    standard deviation over them, or for a single case its `single_error` column (NaN
-    without one)."""
+    standard error of the mean, the standard deviation over them / sqrt(seeds); NaN for a
+    single case (one deposit tells nothing of the scatter between deposits)."""
     known = [c for c in cases if not math.isnan(c[key])]
     if not known:
         return math.nan, math.nan
     if len(known) == 1:
-        return known[0][key], known[0][single_error] if single_error else math.nan
+        return known[0][key], math.nan
     values = np.array([c[key] for c in known])
-    return float(values.mean()), float(values.std(ddof=1))
+    return float(values.mean()), float(values.std(ddof=1) / math.sqrt(len(values)))
+
+
+def bars(errors):
+    """Error bars for errorbar(): None where there are none (NaN: one seed), else 0 for the NaNs."""
+    values = np.atleast_1d(np.asarray(errors, dtype=float))
+    if np.isnan(values).all():
+        return None
+    return np.nan_to_num(values) if np.ndim(errors) else float(np.nan_to_num(values)[0])
 
 
 FLUX_STYLES = {3.0: ("C3", "v"), 1.0: ("C0", "o"), 0.5: ("C4", "D"), 0.3: ("C1", "s"), 0.1: ("C2", "^")}
@@ -194,17 +230,17 @@ def plot_phi_z(sweeps, png):
     for cases, medium in ((water, "water"), (vacuum, "vacuum")):
         for (q,), group in by(cases, "Q_over_Q0"):
             z, z_error = over_seeds(group, "coordination_no_rattlers_4")
-            porosity, porosity_error = over_seeds(group, "porosity", "porosity_standard_error")
+            porosity, porosity_error = over_seeds(group, "porosity")
             colour, marker = flux_style(q)
-            ax.errorbar(z, 1 - porosity, xerr=None if math.isnan(z_error) else z_error, yerr=porosity_error,
+            ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error),
                         color=colour, capsize=3,
                         marker="*" if medium == "vacuum" else marker, ms=12 if medium == "vacuum" else 7,
                         ls="none", label=f"{medium}, Q/Q0 = {q:g}")
     frictionless = finished(sweeps, "rcp-mono")
     if frictionless:
         z, z_error = over_seeds(frictionless, "coordination_no_rattlers_4")
-        porosity, porosity_error = over_seeds(frictionless, "porosity", "porosity_standard_error")
-        ax.errorbar(z, 1 - porosity, xerr=z_error, yerr=porosity_error, color="k", marker="P", ms=9, ls="none",
+        porosity, porosity_error = over_seeds(frictionless, "porosity")
+        ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error), color="k", marker="P", ms=9, ls="none",
                     capsize=3, label="water, no friction, Q/Q0 = 1")
     z = np.linspace(3.5, 6.5, 50)
     ax.plot(z, song_wang_makse(z), "k-", lw=1, label="Song, Wang & Makse: φ = Z/(Z + 2√3)")
@@ -239,11 +275,11 @@ def plot_flux(sweeps, png):
         return False
     fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
     for cases, medium, marker in ((water, "water", "o"), (vacuum, "vacuum", "*")):
-        points = [(q, *over_seeds(group, "porosity", "porosity_standard_error"))
+        points = [(q, *over_seeds(group, "porosity"))
                   for (q,), group in by(cases, "Q_over_Q0")]
         if points:
             q, porosity, error = zip(*points)
-            ax.errorbar(q, porosity, yerr=error, marker=marker, ms=12 if medium == "vacuum" else 7,
+            ax.errorbar(q, porosity, yerr=bars(error), marker=marker, ms=12 if medium == "vacuum" else 7,
                         capsize=3, label=medium)
     d50_mm = D_MAX * 1e3
     predicted = wu_wang_porosity(d50_mm)
@@ -266,7 +302,7 @@ def plot_finite_size(sweeps, png):
     groups = by(cases, "L_over_d")
     sizes = [size for (size,), _ in groups]
     fig, (ax_porosity, ax_z) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
-    porosity = [over_seeds(g, "porosity", "porosity_standard_error") for _, g in groups]
+    porosity = [over_seeds(g, "porosity") for _, g in groups]
     ax_porosity.errorbar(sizes, *zip(*porosity), marker="o", capsize=3)
     ax_porosity.set_ylabel("porosity of 0.15 L < z < 0.35 L")
     for key, label in (("coordination_no_rattlers", "fewer than 2 contacts left out"),
@@ -283,45 +319,52 @@ def plot_finite_size(sweeps, png):
         ax.grid(alpha=0.3)
     q = sorted({c["Q_over_Q0"] for c in cases})
     save(fig, png, f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}; "
-                   "error bars: standard deviation over the seeds")
+                   "error bars: standard error of the mean over the seeds")
     return True
 
 
-def fig7_cases(sweeps):
-    """The finished mixtures of Fig. 7: fig7's (seed 1) pooled with fig7-seeds' and
-    fig7-seeds-low's (more seeds)."""
-    return finished(sweeps, "fig7") + [{**c, "sweep": "fig7"} for extra in ("fig7-seeds", "fig7-seeds-low")
-                                       for c in finished(sweeps, extra)]
+def fig7_cases(sweeps, protocol="rest"):
+    """The finished mixtures of Fig. 7 at rest (fig7-rest) or by the paper's protocol (fig7-stop)."""
+    return finished(sweeps, f"fig7-{protocol}")
 
 
 def plot_fig7(sweeps, png):
-    """Fig. 7: porosity of the mixtures against Sigma, a panel per flux and a line per S, with
-    Wu & Wang for each mixture's d50 by mass. False without data."""
+    """Fig. 7: porosity of the mixtures against Sigma at rest, a panel per friction law and flux,
+    a line per S; dashed, the same runs measured by the paper's protocol; dotted, Wu & Wang for
+    each mixture's d50 by mass; dash-dot, the frictionless deposits at rest; grey, Desmond &
+    Weeks' random close packing of S = 0. False without data."""
     cases = fig7_cases(sweeps)
     if not cases:
         return False
-    panels = by(cases, "Q_over_Q0")[::-1]
-    fig, axes = plt.subplots(1, len(panels), figsize=(4 * len(panels) + 1, 4.5), sharey=True,
+    stop = fig7_cases(sweeps, "stop")
+    panels = by(cases, "law", "Q_over_Q0")
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.5 * len(panels) + 1, 4.8), sharey=True,
                              layout="constrained", squeeze=False)
-    for ax, ((q,), panel) in zip(axes[0], panels):
+    for ax, ((law, q), panel) in zip(axes[0], panels):
+        spreads = sorted({c["Sigma"] for c in panel})
         for n, ((exponent,), line) in enumerate(by(panel, "S")):
-            points = [(spread, *over_seeds(g, "porosity", "porosity_standard_error"))
-                      for (spread,), g in by(line, "Sigma")]
+            points = [(spread, *over_seeds(g, "porosity")) for (spread,), g in by(line, "Sigma")]
             spread, porosity, error = zip(*points)
-            ax.errorbar(spread, porosity, yerr=error, marker="o", capsize=3, color=f"C{n}", label=f"S = {exponent:g}")
+            ax.errorbar(spread, porosity, yerr=bars(error), marker="o", capsize=3, color=f"C{n}", label=f"S = {exponent:g}, at rest")
+            paper = [(sp, over_seeds(g, "porosity")[0]) for (sp,), g in
+                     by([c for c in stop if (c["law"], c["Q_over_Q0"], c["S"]) == (law, q, exponent)], "Sigma")]
+            if paper:
+                ax.plot(*zip(*paper), "--", marker="x", color=f"C{n}", label=f"S = {exponent:g}, paper's protocol")
             predicted = [wu_wang_porosity(talbot_statistics(exponent, s)[0] * 1e3) for s in spread]
             ax.plot(spread, predicted, ":", color=f"C{n}", label=f"Wu & Wang, S = {exponent:g}")
             close = [(spread, over_seeds(g, "porosity")[0])
                      for (spread,), g in by([c for c in finished(sweeps, "rcp") if c["S"] == exponent], "Sigma")]
             if close:
-                ax.plot(*zip(*close), "-.", color=f"C{n}", lw=1, label=f"no friction (random close packing), S = {exponent:g}")
-        ax.set_title(f"Q/Q0 = {q:g} (φ0 = {q * PHI_0_OF_Q_0:g})", fontsize="medium")
+                ax.plot(*zip(*close), "-.", color=f"C{n}", lw=1, label=f"no friction, S = {exponent:g}")
+        ax.plot(spreads, [desmond_weeks_porosity(*talbot_statistics(0, s)[1:]) for s in spreads], "-", color="0.6",
+                lw=2, alpha=0.6, label="Desmond & Weeks RCP, S = 0")
+        ax.set_title(f"friction law {law}, Q/Q0 = {q:g}", fontsize="medium")
         ax.set_xlabel("spread Σ = ln(d_max/d_min)")
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L")
-    axes[0][0].legend(fontsize="small")
-    save(fig, png, f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}; dotted: Wu & Wang for each "
-                   "mixture's d50 by mass; dash-dot: the same mixture deposited without friction at Q0")
+    axes[0][0].legend(fontsize="x-small")
+    save(fig, png, f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}, at rest; "
+                   "error bars: standard error of the mean over the seeds")
     return True
 
 
@@ -334,23 +377,23 @@ def plot_hindered(sweeps, png):
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
     fluxes = sorted({c["Q_over_Q0"] for c in one_size})
     for cases, label, style in ((finished(sweeps, "fig5-6"), "paper's fluid", "o-"), (one_size, "hindered settling", "s--")):
-        points = [(q, *over_seeds(g, "porosity", "porosity_standard_error"))
+        points = [(q, *over_seeds(g, "porosity"))
                   for (q,), g in by(cases, "Q_over_Q0") if q in fluxes]
         if points:
             q, porosity, error = zip(*points)
-            left.errorbar(q, porosity, yerr=error, fmt=style, color="k", capsize=3, label=label)
+            left.errorbar(q, porosity, yerr=bars(error), fmt=style, color="k", capsize=3, label=label)
     left.set_xscale("log")
     left.set_xticks(fluxes, [f"{q:g}" for q in fluxes])
     left.minorticks_off()
     left.set_xlabel("flux Q/Q0")
     left.set_ylabel("porosity of 0.15 L < z < 0.35 L")
     left.set_title(f"One size, d = 1 cm, {box_label(one_size or finished(sweeps, 'fig5-6'))}", fontsize="medium")
-    plain = [c for c in fig7_cases(sweeps) if c["Q_over_Q0"] == 1]
+    plain = [c for c in fig7_cases(sweeps) if c["Q_over_Q0"] == 1 and c["law"] == "bounded"]
     for cases, label, style in ((plain, "paper's fluid", "o-"), (mixtures, "hindered", "s--")):
         for n, ((exponent,), line) in enumerate(by(cases, "S")):
-            points = [(spread, *over_seeds(g, "porosity", "porosity_standard_error")) for (spread,), g in by(line, "Sigma")]
+            points = [(spread, *over_seeds(g, "porosity")) for (spread,), g in by(line, "Sigma")]
             spread, porosity, error = zip(*points)
-            right.errorbar(spread, porosity, yerr=error, fmt=style, color=f"C{n}", capsize=3,
+            right.errorbar(spread, porosity, yerr=bars(error), fmt=style, color=f"C{n}", capsize=3,
                            label=f"S = {exponent:g}, {label}")
     right.set_xlabel("spread Σ = ln(d_max/d_min)")
     right.set_title(f"Talbot mixtures at Q/Q0 = 1, {box_label(mixtures or plain)}", fontsize="medium")
@@ -358,7 +401,7 @@ def plot_hindered(sweeps, png):
         ax.grid(alpha=0.3)
         ax.legend(fontsize="small")
     save(fig, png, "Hindered settling (Richardson-Zaki) against the paper's fluid; "
-                   "error bars: standard deviation over the seeds")
+                   "error bars: standard error of the mean over the seeds")
     return True
 
 
@@ -438,14 +481,11 @@ COLUMNS = {  # column: (heading, digits)
 
 
 def deposit_cells(group, keys):
-    """The table cells of the columns over a group of seeds: the porosity as mean ± error
-    (standard deviation, or the Monte Carlo standard error of a single run), Z as mean ±
-    standard deviation, the others as means."""
+    """The table cells of the columns over a group of seeds: the porosity and Z as mean ±
+    standard error of the mean (none for one seed), the others as means."""
     cells = []
     for key in keys:
-        if key == "porosity":
-            mean, error = over_seeds(group, key, "porosity_standard_error")
-        elif key.startswith("coordination"):
+        if key == "porosity" or key.startswith("coordination"):
             mean, error = over_seeds(group, key)
         else:
             mean, error = over_seeds(group, key)[0], math.nan
@@ -471,25 +511,30 @@ def markdown(sweeps):
                     for (fluid, variant, size, q), g in by(cases, "fluid", "variant", "L_over_d", "Q_over_Q0")]
             lines += [f"{title} (mean ± standard deviation over the seeds):", "",
                       *table(["fluid", "variant", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
-    mixtures = fig7_cases(sweeps) + finished(sweeps, "fig8") + finished(sweeps, "fig7-hindered") + finished(sweeps, "rcp")
+    mixtures = (fig7_cases(sweeps) + fig7_cases(sweeps, "stop") + finished(sweeps, "fig8") + finished(sweeps, "fig7-hindered")
+                + finished(sweeps, "rcp"))
     if mixtures:
-        rows = [[sweep, f"{q:g}", f"{exponent:g}", f"{spread:g}", str(len(g)), *deposit_cells(g, MIXTURE)]
-                for (sweep, q, exponent, spread), g in by(mixtures, "sweep", "Q_over_Q0", "S", "Sigma")]
-        lines += ["Figs. 7-8, Talbot mixtures (±: the standard deviation over the seeds, for one seed the Monte Carlo standard error; Γ at the stop):", "",
-                  *table(["sweep", "Q/Q0", "S", "Σ", "seeds", *(COLUMNS[k][0] for k in MIXTURE)], rows), ""]
+        rows = [[sweep, law or "–", f"{q:g}", f"{exponent:g}", f"{spread:g}", str(len(g)), *deposit_cells(g, MIXTURE)]
+                for (sweep, law, q, exponent, spread), g in by(mixtures, "sweep", "law", "Q_over_Q0", "S", "Sigma")]
+        lines += ["Figs. 7-8, Talbot mixtures (±: the standard error of the mean over the seeds, none for one seed;"
+                  " fig7-rest and rcp at rest, fig7-stop at the paper's stop):", "",
+                  *table(["sweep", "friction law", "Q/Q0", "S", "Σ", "seeds", *(COLUMNS[k][0] for k in MIXTURE)], rows), ""]
         rows = []
         close = finished(sweeps, "rcp")
         for exponent, spread in sorted({(c["S"], c["Sigma"]) for c in mixtures if c["sweep"] != "rcp"}):
             d50, delta, skewness = talbot_statistics(exponent, spread)
+            geometric, trask = sorting(exponent, spread)
             rcp = over_seeds([c for c in close if (c["S"], c["Sigma"]) == (exponent, spread)], "porosity")[0]
             rows.append([f"{exponent:g}", f"{spread:g}", f"{D_MAX * math.exp(-spread) * 1e3:.2f}", f"{d50 * 1e3:.2f}",
-                         f"{delta:.3f}", f"{skewness:.2f}", f"{wu_wang_porosity(d50 * 1e3):.3f}", cell(rcp)])
-        lines += ["The mixtures (d_max = 10 mm; d50 by mass, δ and skewness of the number distribution; random close"
-                  " packing: the porosity of the frictionless deposit, rcp.toml):", "",
-                  *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "δ", "skewness", "Wu & Wang porosity",
-                          "random close packing porosity"], rows), ""]
+                         f"{geometric:.2f}", f"{trask:.2f}", f"{delta:.3f}", f"{skewness:.2f}",
+                         f"{wu_wang_porosity(d50 * 1e3):.3f}", f"{desmond_weeks_porosity(delta, skewness):.3f}", cell(rcp)])
+        lines += ["The mixtures (d_max = 10 mm; d50 and the sorting by mass, σ_g = √(d84/d16) and Trask's √(d75/d25);"
+                  " δ and skewness of the number distribution; Desmond & Weeks' random close packing, fitted for"
+                  " δ ≤ 0.4; the porosity of the frictionless deposit at rest, rcp.toml):", "",
+                  *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "σ_g", "Trask", "δ", "skewness", "Wu & Wang porosity",
+                          "Desmond & Weeks RCP porosity", "frictionless deposit porosity"], rows), ""]
     lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS
-              if sweep not in ("fig7-seeds", "fig7-seeds-low") and not finished(sweeps, sweep)]  # they add seeds to fig7
+              if not finished(sweeps, sweep)]
     return "\n".join(lines)
 
 
@@ -512,7 +557,7 @@ def main():
     figures = (("sedimentation-phi-z.png", plot_phi_z, "fig5-6 or vacuum"),
                ("sedimentation-flux.png", plot_flux, "fig5-6 or vacuum"),
                ("sedimentation-finite-size.png", plot_finite_size, "finite-size"),
-               ("sedimentation-fig7.png", plot_fig7, "fig7"),
+               ("sedimentation-fig7.png", plot_fig7, "fig7-rest"),
                ("sedimentation-fig8.png", plot_fig8, "fig8"),
                ("sedimentation-hindered.png", plot_hindered, "fig5-6-hindered or fig7-hindered"))
     for name, draw, needs in figures:

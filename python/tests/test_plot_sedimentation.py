@@ -27,6 +27,17 @@ def test_wu_wang_at_10_mm():
     assert plot.wu_wang_porosity(10) == pytest.approx(0.2594, abs=1e-4)
 
 
+def test_desmond_weeks_of_one_size_and_a_spread():
+    assert plot.desmond_weeks_porosity(0, 0) == pytest.approx(1 - 0.634, rel=1e-12)
+    assert plot.desmond_weeks_porosity(0.2, 1.0) == pytest.approx(1 - (0.634 + 0.0658 * 0.2 + 0.0857 * 0.04), rel=1e-12)
+
+
+def test_sorting_of_one_size_is_one_and_grows_with_the_spread():
+    assert plot.sorting(0, 1e-9) == pytest.approx((1.0, 1.0), rel=1e-6)
+    narrow, wide = plot.sorting(0, 0.6931), plot.sorting(0, 2.7726)
+    assert 1 < narrow[0] < wide[0] and 1 < narrow[1] < wide[1] and narrow[1] < narrow[0]
+
+
 def test_song_wang_makse_at_z_6():
     assert plot.song_wang_makse(6) == pytest.approx(6 / (6 + 2 * math.sqrt(3)), rel=1e-12)
     assert plot.song_wang_makse(6) == pytest.approx(0.634, abs=5e-4)
@@ -97,9 +108,10 @@ def sweeps(tmp_path):
     write_results(root / "vacuum", [(one_size(phi, seed), "ok") for phi in (0.1, 0.03, 0.01) for seed in (1, 2, 3)])
     write_results(root / "finite-size", [({"simulation.seed": seed, "domain.upper": f"[{n * D_MAX}, {n * D_MAX}, 0.3]"},
                                            "ok") for seed in (1, 2, 3) for n in (4, 8, 16)])
-    write_results(root / "fig7", [({"particles.0.distribution.exponent": s, "particles.0.solid_fraction": phi,
-                                    "particles.0.distribution.spread": spread}, "ok")
-                                   for s in (0, 1, 2) for phi in (0.1, 0.01) for spread in (0.5, 1.0, 2.0)])
+    for sweep in ("fig7-rest", "fig7-stop"):
+        write_results(root / sweep, [({"contact.default.friction_bound": law, "particles.0.distribution.exponent": s,
+                                       "particles.0.solid_fraction": 0.1, "particles.0.distribution.spread": spread}, "ok")
+                                      for law in ("total", "spring") for s in (0, 1, 2) for spread in (0.5, 1.0, 2.0)])
     write_results(root / "fig8", [({"particles.0.solid_fraction": phi}, "ok") for phi in (0.1, 0.01)])
     write_results(root / "fig5-6-hindered", [(one_size(phi, seed), "ok") for phi in (0.3, 0.1) for seed in (1, 2, 3)])
     write_results(root / "rcp-mono", [(one_size(0.1, seed), "ok") for seed in (1, 2, 3)])
@@ -132,7 +144,7 @@ def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
         assert (out / f"sedimentation-{name}.png").stat().st_size > 10_000, printed
     with open(out / "sedimentation.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 12 + 9 + 9 + 18 + 2 + 6 + 9 + 3 + 9
+    assert len(rows) == 12 + 9 + 9 + 18 + 18 + 2 + 6 + 9 + 3 + 9
     assert "sweep fig5-6: 10 of 12 cases ok" in printed
     failed = next(r for r in rows if r["status"] == "failed")
     assert failed["porosity"] == "" and failed["Q_over_Q0"] == "0.1"
@@ -147,11 +159,12 @@ def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
     assert [(r["S"], r["Sigma"]) for r in fig8] == [("0", "2"), ("0", "2")]
     assert {r["variant"] for r in rows if r["sweep"] in ("fig5-6-hindered", "fig7-hindered")} == {"hindered"}
     assert {r["variant"] for r in rows if r["sweep"] in ("rcp-mono", "rcp")} == {"frictionless"}
-    assert {r["variant"] for r in rows if r["sweep"] == "fig7"} == {""}
+    assert {r["variant"] for r in rows if r["sweep"] == "fig7-rest"} == {""}
+    assert {r["law"] for r in rows if r["sweep"] == "fig7-rest"} == {"bounded", "as printed"}
 
 
 def test_missing_sweeps_are_skipped_and_said(sweeps, tmp_path):
-    for sweep in ("fig5-6", "vacuum", "fig7"):
+    for sweep in ("fig5-6", "vacuum", "fig7-rest"):
         (sweeps / sweep / "results.csv").unlink()
     out = tmp_path / "out"
     printed = run("--sweeps", sweeps, "--out", out)
@@ -170,7 +183,9 @@ def test_markdown_tables(sweeps, tmp_path):
     assert "| yes | – | 16 | 1 | 3 |" in printed
     assert "| yes | hindered | 8 | 3 | 3 |" in printed
     assert "| yes | frictionless | 8 | 1 | 3 |" in printed
-    assert "| fig7-hindered | 1 | 0 | 2 | 1 |" in printed
+    assert "| fig7-hindered | – | 1 | 0 | 2 | 1 |" in printed
+    assert "| fig7-rest | bounded | 1 | 0 | 2 | 1 |" in printed
     d50, delta, skewness = plot.talbot_statistics(0, 2.0)
-    assert f"| 0 | 2 | 1.35 | {d50 * 1e3:.2f} | {delta:.3f} | {skewness:.2f} |" in printed
+    geometric, trask = plot.sorting(0, 2.0)
+    assert f"| 0 | 2 | 1.35 | {d50 * 1e3:.2f} | {geometric:.2f} | {trask:.2f} | {delta:.3f} | {skewness:.2f} |" in printed
     assert "No finished case" not in printed

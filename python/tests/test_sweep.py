@@ -243,8 +243,8 @@ def test_only_selects_cases(grid_run, tmp_path):
     assert [row["status"] for row in results(out).values()] == ["ok"] * 4, "results.csv keeps the cases left out"
 
 
-@pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7", 48), ("fig8", 2), ("finite-size", 9), ("fig7-seeds", 24),
-                                         ("vacuum", 9)])
+@pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7-rest", 288), ("fig7-stop", 288), ("fig8", 2),
+                                         ("finite-size", 9), ("rcp", 24), ("fig7-hindered", 36), ("vacuum", 9)])
 def test_example_sweeps_dry_run(tmp_path, name, count):
     """The sedimentation sweeps are valid: every case passes `tsubu check` (nothing is run)."""
     done = sweep(ROOT / "examples" / "sedimentation" / "sweeps" / f"{name}.toml", "--dry-run", cwd=tmp_path)

@@ -272,8 +272,11 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
   BlockStepRules rules;
   rules.levels = 20;
   Simulation sim = run(std::move(w), rules, 4);
+  // The pair's initial overlaps push it apart; after 4 steps grain 1 is on the floor (grain 0
+  // may be lifted off it for a moment, depending on the friction law's transient).
   const HermiteState& s = sim.block()->state();
-  EXPECT_GE(int(s.level[0]) - int(s.level[2]), 6) << "contact level " << int(s.level[0]) << ", free " << int(s.level[2]);
+  ASSERT_FALSE(sim.world().contacts.walls().empty());
+  EXPECT_GE(int(s.level[1]) - int(s.level[2]), 6) << "contact level " << int(s.level[1]) << ", free " << int(s.level[2]);
   for (const Contact& c : sim.world().contacts.pairs())
     if (c.touching) EXPECT_EQ(s.level[c.i], s.level[c.j]) << "partners in touch share a level";
   for (const Contact& c : sim.world().contacts.walls())

@@ -105,6 +105,45 @@ TEST(Deposit, HeightBySlices) {
   EXPECT_EQ(deposit_height(g.packing(), rule), 0.0);
 }
 
+TEST(Deposit, SurfaceIsTheTopOfAUniformDepositWhateverItsDensity) {
+  // Simple cubic deposits of `layers` layers at spacing s fill 0 < z < layers s with solid
+  // fraction (pi/6) (d/s)^3: 0.52 touching, 0.45 at s = 1.05 d. A window of one spacing holds
+  // exactly the lattice's solid fraction inside the deposit and half of it when centred on
+  // the top: the surface is layers s for both densities.
+  const double d = 0.01;
+  for (double s : {d, 1.05 * d})
+    for (int layers : {1, 3, 6}) {
+      Grains g = lattice(8, layers, s, d, {{0.5, 0.5, 0.5}});
+      const SurfaceRule rule{0, s, g.domain.upper.z};
+      EXPECT_NEAR(surface_height(g.packing(), rule), layers * s, 1e-9 * d) << "s = " << s << ", layers = " << layers;
+    }
+}
+
+TEST(Deposit, SurfaceRisesWithTheFirstGrainAndIgnoresGrainsAbove) {
+  Grains g;
+  g.domain = {{0, 0, 0}, {0.04, 0.04, 0.1}, {true, true, false}};
+  const SurfaceRule rule{0, 0.01, 0.1};
+  EXPECT_EQ(surface_height(g.packing(), rule), 0.0);  // no grain
+  g.position = {{0.02, 0.02, 0.05}};                  // a grain falling far above the floor
+  g.radius = {0.005};
+  EXPECT_EQ(surface_height(g.packing(), rule), 0.0);
+  g.position.push_back({0.01, 0.01, 0.005});  // the first grain on the floor
+  g.radius.push_back(0.005);
+  const double first = surface_height(g.packing(), rule);
+  EXPECT_GT(first, 0.0);
+  EXPECT_LE(first, 0.005);  // a sparse first layer: below the window's centre; the falling grain is not counted
+  // Layer by layer (a simple cubic deposit growing by one layer at a time), the surface
+  // never falls and ends at the deposit's top.
+  double last = 0;
+  for (int layers = 1; layers <= 5; ++layers) {
+    Grains lat = simple_cubic(4, layers, 0.01);
+    const double h = surface_height(lat.packing(), SurfaceRule{0, 0.01, lat.domain.upper.z});
+    EXPECT_GT(h, last);
+    last = h;
+  }
+  EXPECT_NEAR(last, 0.05, 1e-12);
+}
+
 TEST(Deposit, CoordinationWithBothRattlerDefinitions) {
   const std::vector<Vec3> x = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 5}};
   const std::vector<int> z = {0, 1, 2, 3, 4, 6, 10};  // the last grain is outside the slab

@@ -99,7 +99,7 @@ TEST(TangentialModels, MindlinSlipCapAndPartialSlip) {
   const double mu = 0.5, sigma = 0.25, delta = 1e-5;
   const MindlinSlip model{mu, sigma, 0.0};
   const double xi_max = mu * (2 - sigma) / (2 * (1 - sigma)) * delta;  // Eq. 11
-  NormalForce fn{2.0, 0, 0, 0};
+  NormalForce fn{3.0, 0, 0, 0, 2.0};  // the bound is the elastic part f_c^n = 2 N (Eq. 10), not the total 3 N
   ContactGeometry g = touching(delta, 0);
   g.dt = 0;
   Vec3 half{0.5 * xi_max, 0, 0};
@@ -109,6 +109,37 @@ TEST(TangentialModels, MindlinSlipCapAndPartialSlip) {
   const Vec3 f_full = model.force(g, fn, beyond);
   EXPECT_NEAR(f_full.x, -mu * 2.0, 1e-12);  // full slip: mu |F_n|
   EXPECT_NEAR(beyond.x, xi_max, 1e-18);     // spring capped at xi_max
+}
+
+TEST(TangentialModels, MindlinBoundedReadingCapsTheWholeForce) {
+  // A contact at half the slip stretch, sliding at 1 m/s with a strong tangential dashpot
+  // (0.5 x 100 N s/m): as printed the dashpot comes on top of the spring's mu chi f_c^n;
+  // bounded, the whole force is mu f_c^n, along the unbounded force.
+  const double mu = 0.5, sigma = 0.25, delta = 1e-5;
+  const double xi_max = mu * (2 - sigma) / (2 * (1 - sigma)) * delta;
+  NormalForce fn{3.0, 0, 100.0, 0, 2.0};
+  ContactGeometry g = touching(delta, 0, {1.0, 0.5, 0});
+  g.dt = 0;
+  Vec3 xi_printed{0.5 * xi_max, 0, 0}, xi_bounded = xi_printed;
+  const Vec3 printed = MindlinSlip{mu, sigma, 0.5, false}.force(g, fn, xi_printed);
+  const Vec3 bounded = MindlinSlip{mu, sigma, 0.5, true}.force(g, fn, xi_bounded);
+  const Vec3 expected = Vec3{-mu * 2.0 * (1 - std::pow(0.5, 1.5)) - 50.0, -25.0, 0};
+  EXPECT_NEAR(printed.x, expected.x, 1e-12);
+  EXPECT_NEAR(printed.y, expected.y, 1e-12);
+  EXPECT_NEAR(norm(bounded), mu * 2.0, 1e-12);
+  EXPECT_NEAR(dot(bounded, expected) / (norm(bounded) * norm(expected)), 1.0, 1e-12);
+  EXPECT_EQ(xi_bounded.x, xi_printed.x);  // the spring is the same either way
+  // Below the bound the two readings are the same force.
+  NormalForce slow = fn;
+  slow.damping = 1e-3;
+  Vec3 a{0.5 * xi_max, 0, 0}, b = a;
+  const MindlinSlip as_printed{mu, sigma, 0.5, false}, bounded_law{mu, sigma, 0.5, true};
+  EXPECT_EQ(as_printed.force(g, slow, a).x, bounded_law.force(g, slow, b).x);
+  // friction = 0: frictionless when bounded, the bare dashpot as printed.
+  Vec3 c{}, d{};
+  const MindlinSlip frictionless_bounded{0.0, sigma, 0.5, true}, frictionless_printed{0.0, sigma, 0.5, false};
+  EXPECT_EQ(norm(frictionless_bounded.force(g, fn, c)), 0.0);
+  EXPECT_NEAR(norm(frictionless_printed.force(g, fn, d)), 50.0 * std::sqrt(1.25), 1e-12);
 }
 
 TEST(ContactLaws, RestitutionAndFrictionReachTheModels) {

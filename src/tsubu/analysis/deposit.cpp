@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/core/random.hpp"
@@ -25,6 +26,44 @@ double deposit_height(const Packing& p, const SliceRule& rule) {
   for (int k = rule.slices; k >= 1; --k)
     if (solid_fraction(p, rule.floor, rule.floor + k * rule.slice) > rule.threshold) return k * rule.slice;
   return 0;
+}
+
+double surface_height(const Packing& p, const SurfaceRule& rule) {
+  constexpr int steps = 8;  // per window
+  const double step = rule.window / steps;
+  const int bins = std::max(steps, static_cast<int>(std::ceil((rule.top - rule.floor) / step)));
+  std::vector<double> solid(static_cast<std::size_t>(bins), 0.0);  // exact volume in each bin
+  for (std::size_t i = 0; i < p.position.size(); ++i) {
+    const double z = p.position[i].z, r = p.radius[i];
+    const int first = std::max(0, static_cast<int>(std::floor((z - r - rule.floor) / step)));
+    const int last = std::min(bins - 1, static_cast<int>(std::floor((z + r - rule.floor) / step)));
+    for (int b = first; b <= last; ++b)
+      solid[static_cast<std::size_t>(b)] += sphere_slab_volume(z, r, rule.floor + b * step, rule.floor + (b + 1) * step);
+  }
+  const double volume = p.base_area() * rule.window;
+  auto phi = [&](int j) {  // the window [floor + j step, floor + j step + window]
+    double sum = 0;
+    for (int b = j; b < j + steps; ++b) sum += solid[static_cast<std::size_t>(b)];
+    return sum / volume;
+  };
+  // The reference: the largest windowed solid fraction met so far, but at least
+  // kDepositSolidFraction, so that a sparse first layer or a falling cloud (looser) is not
+  // taken for the deposit's bulk.
+  double largest = std::max(phi(0), kDepositSolidFraction), previous = phi(0);
+  // A first window less than half full: the floor's layer is forming; its height grows from 0
+  // with its solid, up to the centre of that window once it is half full.
+  if (previous < 0.5 * largest) return 0.5 * rule.window * previous / (0.5 * largest);
+  int j = 1;
+  for (; j + steps <= bins; ++j) {
+    const double now = phi(j);
+    if (now < 0.5 * largest) {  // between the centres of windows j - 1 and j
+      const double centre = rule.window / 2 + (j - 1) * step;
+      return centre + step * (previous - 0.5 * largest) / (previous - now);
+    }
+    largest = std::max(largest, now);
+    previous = now;
+  }
+  return rule.window / 2 + (j - 1) * step;  // the deposit fills the box
 }
 
 PorosityEstimate porosity_monte_carlo(const Packing& p, double a, double b, long points, std::uint64_t seed) {

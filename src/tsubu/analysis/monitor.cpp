@@ -26,7 +26,7 @@ const std::vector<double>& AnalysisMonitor::evaluate(const World& w) {
   return values_;
 }
 
-std::string AnalysisMonitor::stop_reason() const {
+std::string AnalysisMonitor::stop_reason(bool inflow_ended) const {
   if (step_ < 0) return "";
   for (std::size_t k = 0; k < stops_.size(); ++k) {
     const StopSpec& s = stops_[k];
@@ -34,7 +34,7 @@ std::string AnalysisMonitor::stop_reason() const {
     // A relative 1e-12 of slack: a deposit height of 4 slices of 0.1 L reaches 0.4 L
     // whatever the round-off of 4 * (0.1 * L).
     const double slack = 1e-12 * std::abs(s.limit);
-    if (time_ < s.after || !(s.at_least ? v >= s.limit - slack : v <= s.limit + slack)) continue;
+    if (time_ < s.after || (s.after_inflow && !inflow_ended) || !(s.at_least ? v >= s.limit - slack : v <= s.limit + slack)) continue;
     std::ostringstream out;
     out.precision(9);
     out << s.when << " = " << v << (s.at_least ? " >= " : " <= ") << s.limit << " at t = " << time_ << " s";

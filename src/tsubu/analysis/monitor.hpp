@@ -23,7 +23,8 @@ class AnalysisMonitor {
   const std::vector<double>& evaluate(const World& w);
   // The first [[stop]] condition that the values of the step last evaluated meet, as a
   // sentence ("deposit_height = 0.016 >= 0.016 at t = 1.2 s"); empty when none does.
-  std::string stop_reason() const;
+  // `inflow_ended`: the inflow has released its last grain (conditions with after_inflow).
+  std::string stop_reason(bool inflow_ended) const;
 
  private:
   std::vector<AnalysisSpec> analyses_;

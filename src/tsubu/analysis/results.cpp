@@ -1,5 +1,7 @@
 #include "tsubu/analysis/results.hpp"
 
+#include <cmath>
+
 #include "tsubu/analysis/measures.hpp"
 
 namespace tsubu {
@@ -17,7 +19,8 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
               {a.name + "_no_rattlers_4", c.without_rattlers_4},
               {a.name + "_grains", grains}};
     }
-    case AnalysisSpec::Kind::deposit_height: return {{a.name, deposit_height(p, a.slices)}};
+    case AnalysisSpec::Kind::deposit_height:
+      return {{a.name, a.slice_rule ? deposit_height(p, a.slices) : surface_height(p, a.surface)}};
     case AnalysisSpec::Kind::porosity: {
       const PorosityEstimate e = porosity_monte_carlo(p, a.z_low, a.z_high, a.points, a.seed);
       return {{a.name, e.porosity},
@@ -31,7 +34,11 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
     case AnalysisSpec::Kind::kinetic_energy: {
       const Energies e = energies(w);
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
-      return {{a.name, kinetic}, {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0}};
+      double mass = 0;
+      for (double m : w.particles.mass) mass += m;
+      return {{a.name, kinetic},
+              {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0},
+              {a.name + "_speed_rms", mass > 0 ? std::sqrt(2 * e.kinetic_translational / mass) : 0.0}};
     }
     case AnalysisSpec::Kind::profiles: break;  // above
   }
@@ -49,6 +56,7 @@ std::vector<std::string> analysis_result_units(const AnalysisSpec& a) {
   for (const std::string& name : analysis_result_names(a)) {
     const bool count = name.ends_with("_grains") || name.ends_with("_points");
     units.push_back(count                                            ? ""
+                    : name.ends_with("_speed_rms")                 ? "m/s"
                     : a.kind == AnalysisSpec::Kind::kinetic_energy ? "J"
                     : a.kind == AnalysisSpec::Kind::deposit_height ? "m"
                                                                    : "");

@@ -244,7 +244,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     for (double v : monitor.evaluate(world)) series << ',' << v;
     series << '\n';
     if (profiles) profiles->write(world);
-    stop_reason = monitor.stop_reason();
+    stop_reason = monitor.stop_reason(inflow && inflow->ended());
   };
   auto write_frame = [&] { frames.write(world, forces); };
 
@@ -332,7 +332,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     }
     if (from && from->step % series_every == 0) {  // a run that a [[stop]] ended stays ended
       monitor.evaluate(world);
-      stop_reason = monitor.stop_reason();
+      stop_reason = monitor.stop_reason(inflow && inflow->ended());
     }
     const std::int64_t loop_first = world.step + 1;
     Progress report(progress_mode_now, log_interval, world.step, steps, elapsed());

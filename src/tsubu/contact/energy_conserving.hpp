@@ -53,6 +53,7 @@ inline NormalForce to_force(const ContactGeometry& g, const State& st, double f,
   out.stiffness = k_n;
   out.damping = 2.0 * beta * std::sqrt(g.m_eff * k_n);  // for the tangential damping only
   out.energy = 0.5 * k_n * g.delta * g.delta;
+  out.elastic = out.f;  // an impulse per step: no elastic part of its own
   out.gap_shift = -depth_change * st.d_c;  // the gap opens by what the depth loses
   return out;
 }

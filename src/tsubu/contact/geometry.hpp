@@ -31,7 +31,9 @@ struct ContactHistory {
 
 // What a normal model returns: the normal force (positive repulsive), its linear-equivalent
 // stiffness and damping coefficient (the tangential models scale theirs from these), the
-// elastic energy stored in the normal spring, and for models that correct positions
+// elastic energy stored in the normal spring, the elastic part of the force (the dashpot
+// left out: Sota & Watanabe's f_c^n, Eq. 9, which bounds their friction, Eq. 10), and for
+// models that correct positions
 // (`corrects_position`), how much the gap must open now (m; split between the two particles
 // like an impulse).
 template <class T>
@@ -40,6 +42,7 @@ struct BasicNormalForce {
   T stiffness = 0;
   T damping = 0;
   T energy = 0;
+  T elastic = 0;
   double gap_shift = 0;
 };
 using NormalForce = BasicNormalForce<double>;

@@ -25,7 +25,7 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
   } else if (spec.normal == "hertz_tsuji") {
     law.normal = HertzTsuji{e_star, HertzTsuji::alpha_of(spec.restitution)};
   } else if (spec.normal == "hertz_sediment") {
-    law.normal = HertzSediment{e_star, spec.alpha};
+    law.normal = HertzSediment{e_star, spec.alpha, spec.tsuji_dashpot};
     tangential_damping = 1.0 / std::sqrt(2.0 * (1.0 - nu));  // beta_t = alpha / sqrt(2(1-sigma))
   } else if (spec.normal == "energy_conserving") {
     law.normal = EnergyConserving{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
@@ -56,7 +56,7 @@ PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material
     const double ratio = linear_spring ? std::sqrt(kappa) : tangential_damping;
     law.tangential = LinearCoulomb{kappa, ratio, spec.friction, hh};
   } else if (spec.tangential == "mindlin") {
-    law.tangential = MindlinSlip{spec.friction, nu, tangential_damping};
+    law.tangential = MindlinSlip{spec.friction, nu, tangential_damping, spec.bound_whole_force};
   } else {
     throw std::invalid_argument("unknown tangential model " + spec.tangential);
   }

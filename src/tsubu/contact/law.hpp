@@ -72,7 +72,9 @@ struct ContactSpec {
   double stiffness = 0.0;              // k_n for linear and energy_conserving[_2005], N/m
   double characteristic_length = 0.0;  // d_c of energy_conserving[_2005], m (0: smaller diameter)
   double alpha = 0.2;                  // dashpot constant of hertz_sediment
+  bool tsuji_dashpot = false;          // hertz_sediment: dashpot = "tsuji" (false: "constant", Eq. 14 as printed)
   double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu); 1 with HH)
+  bool bound_whole_force = false;      // mindlin: friction_bound = "total" (false: "spring", as printed)
   // hooke_hysteresis only:
   double characteristic_velocity = 0;  // v_c, m/s
   double max_stiffness_ratio = 0;      // k2max/k_n, > 1

@@ -29,7 +29,8 @@ struct LinearDashpot {
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
     using T = typename G::Number;
     const double eta = 2.0 * beta * std::sqrt(g.m_eff * k_n);
-    return {T(k_n) * g.delta - T(eta) * g.v_n, T(k_n), T(eta), T(0.5 * k_n) * g.delta * g.delta};
+    const T f_el = T(k_n) * g.delta;
+    return {f_el - T(eta) * g.v_n, T(k_n), T(eta), T(0.5 * k_n) * g.delta * g.delta, f_el};
   }
 };
 
@@ -71,16 +72,20 @@ struct HertzTsuji {
     const T f_el = T(K) * g.delta * root_delta;
     const T eta = T(alpha) * sqrt(T(g.m_eff * K) * root_delta);  // delta^{1/4} inside the root
     // Linear-equivalent stiffness dF/ddelta = 3/2 K delta^{1/2}.
-    return {f_el - eta * g.v_n, T(1.5 * K) * root_delta, eta, T(0.4) * f_el * g.delta};
+    return {f_el - eta * g.v_n, T(1.5 * K) * root_delta, eta, T(0.4) * f_el * g.delta, f_el};
   }
 };
 
-// Model H, Hertz with a constant dashpot as used for sediment (Sota & Watanabe Eqs. 9-14):
-// F_n = K delta^{3/2} - eta_n v_n, eta_n = alpha sqrt(K m* dbar^{1/2}).
+// Model H, Hertz with a dashpot as used for sediment (Sota & Watanabe Eqs. 9-14):
+// F_n = K delta^{3/2} - eta_n v_n. Eq. 14 reads two ways (docs/engine.md, "Normal models"):
+// as printed, eta_n = alpha sqrt(K m* dbar^{1/2}), a constant dashpot (dbar = (d_i + d_j)/2);
+// in Tsuji's form, eta_n = alpha sqrt(K m* delta^{1/2}) (`tsuji_dashpot`), for which alpha
+// sets a restitution independent of the impact speed, as the paper's text says it does.
 struct HertzSediment {
   static constexpr const char* name = "hertz_sediment (H)";
   double e_star = 0;  // Pa
   double alpha = 0;   // paper Table 1: 0.2
+  bool tsuji_dashpot = false;
   double collision_time(double m_eff, double r_eff, double u) const { return hertz_collision_time(e_star, m_eff, r_eff, u); }
   bool collision_longer_than(double m_eff, double r_eff, double u, double t) const {
     return hertz_collision_longer_than(e_star, m_eff, r_eff, u, t);
@@ -93,8 +98,9 @@ struct HertzSediment {
     const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
     const T root_delta = sqrt(g.delta);
     const T f_el = T(K) * g.delta * root_delta;
-    const double eta = alpha * std::sqrt(K * g.m_eff * std::sqrt(g.d_mean));
-    return {f_el - T(eta) * g.v_n, T(1.5 * K) * root_delta, T(eta), T(0.4) * f_el * g.delta};
+    const T eta = tsuji_dashpot ? T(alpha) * sqrt(T(K * g.m_eff) * root_delta)
+                                : T(alpha * std::sqrt(K * g.m_eff * std::sqrt(g.d_mean)));
+    return {f_el - eta * g.v_n, T(1.5 * K) * root_delta, eta, T(0.4) * f_el * g.delta, f_el};
   }
 };
 
@@ -177,7 +183,7 @@ struct HookeHysteresis {
     const double h = hist.normal[0];
     const double k2 = h >= lim ? k * c_k2 : k + (k * c_k2 - k) * h / lim;
     const double energy = f_hys > 0 ? 0.5 * f_hys * f_hys / k2 : 0.0;
-    return {f, k, gamma, energy};
+    return {f, k, gamma, energy, f_hys};
   }
 };
 

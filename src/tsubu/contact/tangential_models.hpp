@@ -80,13 +80,19 @@ struct LinearCoulomb {
   }
 };
 
-// Mindlin-type with slip (Sota & Watanabe Eqs. 10-11): xi capped at
-// xi_max = mu (2-sigma)/(2(1-sigma)) delta; chi = 1 - (1 - |xi|/xi_max)^{3/2};
-// F_t = -mu chi |F_n| xi/|xi| - eta_t v_t.
+// Mindlin-type with slip (Sota & Watanabe Eqs. 10-14): xi capped at
+// xi_max = mu (2-sigma)/(2(1-sigma)) delta (Eq. 11); chi = 1 - (1 - |xi|/xi_max)^{3/2};
+// the spring's force -mu chi |f_c^n| xi/|xi| (Eq. 10, f_c^n the elastic normal force of
+// Eq. 9) and the dashpot -eta_t v_t (Eq. 13). Eq. 10 reads two ways (docs/engine.md,
+// "Tangential models"): as printed, the dashpot is added on top of the capped spring
+// (`bound_whole_force` false: |F_t| may exceed mu |f_c^n| while the contact slides fast);
+// bounded, the whole force F_t is scaled back to mu |f_c^n| where it exceeds it (the spring
+// keeps its stretch, which is already capped at xi_max).
 struct MindlinSlip {
   double mu = 0;
   double sigma = 0;          // Poisson's ratio of the pair
   double damping_ratio = 1;  // eta_t / eta_n
+  bool bound_whole_force = false;
   double dashpot_ratio() const { return damping_ratio; }
 
   template <class G, class V = Vector<typename G::Number>>
@@ -101,8 +107,12 @@ struct MindlinSlip {
     const T stretch = slips ? xi_max : len;
     const T free = T(1.0) - stretch / xi_max;
     const T chi = T(1.0) - free * sqrt(free);  // 1 - (1 - |xi|/xi_max)^{3/2}
-    const T pull = stretch > T(0.0) && xi_max > T(0.0) ? T(mu) * chi * abs(fn.f) / stretch : T(0.0);
-    return -(T(damping_ratio) * fn.damping) * g.v_t - pull * xi;
+    const T limit = T(mu) * abs(fn.elastic);   // mu |f_c^n|
+    const T pull = stretch > T(0.0) && xi_max > T(0.0) ? chi * limit / stretch : T(0.0);
+    const V f_t = -(T(damping_ratio) * fn.damping) * g.v_t - pull * xi;
+    if (!bound_whole_force) return f_t;
+    const T f2 = norm2(f_t);
+    return f_t * (f2 > limit * limit ? limit / sqrt(f2) : T(1.0));
   }
 };
 

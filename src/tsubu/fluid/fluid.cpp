@@ -26,10 +26,10 @@ T interpolate(const std::vector<double>& xs, const std::vector<double>& ys, T x)
 }
 
 // Re C_D(Re): finite at Re = 0 (24), so the drag 1/2 rho S C_D |u| u = 1/2 rho S (nu/d) (Re C_D) u
-// is smooth through u = 0.
+// is smooth through u = 0. Schiller-Naumann up to cap_re (Fluid::cap_re), 0.44 above.
 template <class T>
-T re_times_cd(T re) {
-  if (value(re) <= Fluid::drag_cap_re) return T(24.0) + T(3.6) * pow(re, 0.687);
+T re_times_cd(T re, double cap_re) {
+  if (value(re) <= cap_re) return T(24.0) + T(3.6) * pow(re, 0.687);
   return T(0.44) * re;
 }
 
@@ -104,9 +104,9 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const 
     lift_coefficient = loth(re, T(d) * spin / q);
   }
   if (f.drag && hinder)
-    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re * s) * correction * s) * u;
+    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re * s, f.cap_re()) * correction * s) * u;
   else if (f.drag)
-    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re) * correction) * u;
+    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re, f.cap_re()) * correction) * u;
   if (value(lift_coefficient) != 0) {
     const Vector<T> c = cross(w, u);
     const T c2 = dot(c, c);
@@ -143,7 +143,7 @@ double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed
   if (!fluid.enabled || !fluid.drag) return INFINITY;
   const double area = M_PI * d * d / 4;
   const double s = hindrance(fluid.hindered ? crowd : Crowding{});
-  return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(s * speed * d / fluid.viscosity) * s);
+  return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(s * speed * d / fluid.viscosity, fluid.cap_re()) * s);
 }
 
 double hindrance(const Crowding& crowd) { return crowd.exponent == 0 ? 1.0 : hindrance_of<double>(crowd); }
@@ -152,16 +152,16 @@ double terminal_speed(const Fluid& fluid, double rho_particle, double d, double 
   // Weight net of buoyancy = drag: Re (Re C_D) = 4 Ar/3, Ar = (rho_p/rho_f - 1) g d^3/nu^2.
   const double ar = (rho_particle / fluid.density - 1) * g * d * d * d / (fluid.viscosity * fluid.viscosity);
   if (!(ar > 0)) return 0;
-  const double k = 4 * ar / 3, cap = Fluid::drag_cap_re;
+  const double k = 4 * ar / 3, cap = fluid.cap_re();
   double re;
   if (k >= cap * cap * 0.44) re = std::sqrt(k / 0.44);
-  else if (k >= cap * re_times_cd(cap)) re = cap;  // in the 0.5 % step of C_D at the cap
+  else if (k >= cap * re_times_cd(cap, cap)) re = cap;  // in the 0.5 % step of C_D at the cap
   else {
     // Newton from the Stokes root, which lies above the root of this convex increasing
     // function: the iterates fall monotonically onto it.
     re = std::min(k / 24, cap);
     for (int it = 0; it < 100; ++it) {
-      const double f = re * re_times_cd(re) - k, slope = 24 + 3.6 * 1.687 * std::pow(re, 0.687);
+      const double f = re * re_times_cd(re, cap) - k, slope = 24 + 3.6 * 1.687 * std::pow(re, 0.687);
       const double next = re - f / slope;
       if (!(next < re)) break;
       re = next;
@@ -177,7 +177,7 @@ double richardson_zaki_exponent(double re) {
   return 2.39;
 }
 
-double drag_coefficient(double re) { return re_times_cd(re) / re; }
+double drag_coefficient(double re, bool capped) { return re_times_cd(re, capped ? Fluid::drag_cap_re : INFINITY) / re; }
 
 double loth_lift_coefficient(double re, double rr) { return loth(re, rr); }
 

@@ -2,6 +2,7 @@
 // exact time derivatives for higher-order integrators, and Rubey's settling speed.
 // Definitions: docs/engine.md, "Fluid forces"; keys: docs/scenario.md, [fluid].
 #pragma once
+#include <cmath>
 #include <vector>
 
 #include "tsubu/core/vec3.hpp"
@@ -26,7 +27,8 @@ struct Fluid {
   double density = 0;       // kg/m^3
   double viscosity = 0;     // m^2/s, kinematic
   bool buoyancy = true;     // -rho_f V g
-  bool drag = true;         // Schiller-Naumann, capped at 0.44 above Re = 1000
+  bool drag = true;         // Schiller-Naumann (Sota & Watanabe Eq. 5)
+  bool drag_cap = true;     // C_D = 0.44 above Re = 1000 (Clift et al.); false: Eq. 5 at every Re
   bool added_mass = true;   // extra translational inertia C_M rho_f V
   bool stokes_torque = true;  // -pi rho_f nu d^3 omega
   SpinModel lift = SpinModel::none;
@@ -39,7 +41,10 @@ struct Fluid {
   double hindered_ball_ratio = 3;
 
   static constexpr double added_mass_coefficient = 0.5;  // C_M of a sphere in still fluid
-  static constexpr double drag_cap_re = 1000;            // Re above which C_D = 0.44
+  static constexpr double drag_cap_re = 1000;            // Re above which C_D = 0.44 (drag_cap)
+
+  // The Re above which the drag coefficient is held at 0.44: drag_cap_re, or none.
+  double cap_re() const { return drag_cap ? drag_cap_re : INFINITY; }
 
   // C_M rho_f V of a sphere of this diameter (0 without fluid or without added mass), kg.
   double added_mass_of(double diameter) const;
@@ -101,7 +106,7 @@ double terminal_speed(const Fluid& fluid, double rho_particle, double d, double 
 double richardson_zaki_exponent(double re_terminal);
 
 // Schiller-Naumann C_D(Re) = 24/Re (1 + 0.15 Re^0.687) for Re <= 1000, 0.44 above.
-double drag_coefficient(double re);
+double drag_coefficient(double re, bool capped = true);
 
 // Loth (2008) spin lift coefficient for the spin ratio rr = d|omega|/|u|.
 double loth_lift_coefficient(double re, double rr);

@@ -236,10 +236,17 @@ ContactSpec read_contact_spec(Section& s, Integrator integrator) {
   if (energy_model) c.characteristic_length = s.positive("characteristic_length", 0.0);
   else if (s.has("characteristic_length"))
     s.fail("characteristic_length", "is used only with normal = \"energy_conserving\" or \"energy_conserving_2005\"");
-  if (c.normal == "hertz_sediment") c.alpha = s.positive("alpha", 0.2);
-  else if (s.has("alpha")) s.fail("alpha", "is used only with normal = \"hertz_sediment\"");
+  if (c.normal == "hertz_sediment") {
+    c.alpha = s.positive("alpha", 0.2);
+    c.tsuji_dashpot = s.choice("dashpot", {"constant", "tsuji"}, "constant") == "tsuji";
+  } else {
+    for (const char* key : {"alpha", "dashpot"})
+      if (s.has(key)) s.fail(key, "is used only with normal = \"hertz_sediment\"");
+  }
   if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.positive("stiffness_ratio", 0.0);
   else if (s.has("stiffness_ratio")) s.fail("stiffness_ratio", "is used only with tangential = \"linear_coulomb\"");
+  if (c.tangential == "mindlin") c.bound_whole_force = s.choice("friction_bound", {"spring", "total"}, "spring") == "total";
+  else if (s.has("friction_bound")) s.fail("friction_bound", "is used only with tangential = \"mindlin\"");
   static constexpr const char* hh_keys[] = {"characteristic_velocity", "max_stiffness_ratio", "adhesion_stiffness_ratio",
                                             "plasticity_depth", "no_tension", "tangential_damping"};
   if (hh) {
@@ -427,7 +434,9 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
       s.fail("fall_speed", "is required here: the default, Rubey's settling speed, needs gravity and grains denser than the fluid");
     src.fall_speed = rubey_speed(density, sc.fluid.density, sc.fluid.viscosity, d_max, norm(sc.gravity));
   }
-  src.mass_limit = s.has("mass_limit") ? s.positive("mass_limit") : 0.0;
+  src.mass_limit = s.real("mass_limit", 0.0);
+  if (!(src.mass_limit >= 0) || !std::isfinite(src.mass_limit))
+    s.fail("mass_limit", "allowed 0 (no limit) or a mass > 0 (kg)" + got(src.mass_limit));
   src.omega_star_rms = s.real("omega_star_rms", 0.0);
   if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
 }
@@ -501,6 +510,8 @@ void read_fluid(Section s, Scenario& sc) {
   f.viscosity = s.positive("kinematic_viscosity");
   f.buoyancy = s.flag("buoyancy", true);
   f.drag = s.flag("drag", true);
+  f.drag_cap = s.flag("drag_cap", true);
+  if (!f.drag && s.has("drag_cap")) s.fail("drag_cap", "is used only with drag = true");
   f.added_mass = s.flag("added_mass", true);
   f.stokes_torque = s.flag("stokes_torque", true);
   f.hindered = s.flag("hindered_settling", false);
@@ -609,13 +620,28 @@ void read_analysis(Section s, Scenario& sc) {
   // The experiment's measures take the box's x length as L and heights from domain.lower.z.
   const double L = sc.domain.length(0), floor = sc.domain.lower.z;
   if (a.kind == Kind::deposit_height) {
-    a.slices.floor = s.real("floor", floor);
-    a.slices.slice = s.positive("slice", 0.1 * L);
-    const std::int64_t slices = s.integer("slices", 10);
-    if (slices < 1 || slices > 1000000) s.fail("slices", "allowed 1 to 1000000, got " + std::to_string(slices));
-    a.slices.slices = static_cast<int>(slices);
-    a.slices.threshold = s.real("threshold", 0.6);
-    if (!(a.slices.threshold > 0 && a.slices.threshold < 1)) s.fail("threshold", "is a solid fraction: allowed (0, 1)" + got(a.slices.threshold));
+    a.slice_rule = s.choice("rule", {"surface", "slices"}, "surface") == "slices";
+    const std::string rule = a.slice_rule ? "slices" : "surface", other = a.slice_rule ? "surface" : "slices";
+    for (const char* key : a.slice_rule ? std::vector<const char*>{"window"} : std::vector<const char*>{"slice", "slices", "threshold"})
+      if (s.has(key)) s.fail(key, "is a key of rule = \"" + other + "\" only (this entry's rule is \"" + rule + "\")");
+    if (a.slice_rule) {
+      a.slices.floor = s.real("floor", floor);
+      a.slices.slice = s.positive("slice", 0.1 * L);
+      const std::int64_t slices = s.integer("slices", 10);
+      if (slices < 1 || slices > 1000000) s.fail("slices", "allowed 1 to 1000000, got " + std::to_string(slices));
+      a.slices.slices = static_cast<int>(slices);
+      a.slices.threshold = s.real("threshold", 0.6);
+      if (!(a.slices.threshold > 0 && a.slices.threshold < 1)) s.fail("threshold", "is a solid fraction: allowed (0, 1)" + got(a.slices.threshold));
+    } else {
+      a.surface.floor = s.real("floor", floor);
+      a.surface.top = sc.domain.upper.z;
+      const double d_max = largest_generated(sc);
+      if (d_max == 0 && !s.has("window"))
+        s.fail("window", "is required when no source gives a largest diameter (CSV files only): the thickness (m) of the sliding window, about the largest grain's diameter");
+      a.surface.window = s.positive("window", d_max);
+      if (!(a.surface.window <= a.surface.top - a.surface.floor))
+        s.fail("window", "is thicker than the domain above the floor: allowed (0, " + num(a.surface.top - a.surface.floor) + "] m" + got(a.surface.window));
+    }
   } else if (a.kind != Kind::kinetic_energy) {
     const auto z = s.has("z_range")             ? s.reals("z_range")
                    : a.kind == Kind::porosity ? std::vector<double>{floor + 0.15 * L, floor + 0.35 * L}
@@ -669,6 +695,14 @@ void read_stop(Section s, Scenario& sc) {
   st.limit = s.real(least ? "at_least" : "at_most");
   st.after = s.real("after", 0.0);
   if (!(st.after >= 0)) s.fail("after", "must be >= 0 (s; the condition is not checked before this time)" + got(st.after));
+  st.after_inflow = s.flag("after_inflow", false);
+  if (st.after_inflow) {
+    const auto inflow = std::find_if(sc.sources.begin(), sc.sources.end(),
+                                     [](const ParticleSource& src) { return src.kind == ParticleSource::Kind::inflow; });
+    if (inflow == sc.sources.end() || !(inflow->mass_limit > 0))
+      s.fail("after_inflow", "needs a [[particles]] source = \"inflow\" with a mass_limit (kg): the condition is checked once it has "
+                             "released its last grain" + std::string(inflow == sc.sources.end() ? "; the scenario has no inflow" : "; its inflow has no mass_limit"));
+  }
   s.finish();
   sc.stops.push_back(st);
 }

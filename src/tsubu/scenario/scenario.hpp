@@ -65,7 +65,9 @@ struct AnalysisSpec {
   Kind kind = Kind::solid_fraction;
   std::string name;
   double z_low = 0, z_high = 0;  // m, the measured slab
-  SliceRule slices;              // deposit_height
+  bool slice_rule = false;       // deposit_height: rule = "slices" (the paper's); false: "surface"
+  SliceRule slices;              // deposit_height, rule = "slices"
+  SurfaceRule surface;           // deposit_height, rule = "surface"
   long points = 65536;           // porosity: Monte Carlo points
   std::uint64_t seed = 1;        // porosity: of the points
   double small_diameter = 0;     // segregation: grains below it are small, m
@@ -80,6 +82,7 @@ struct StopSpec {
   bool at_least = true;   // value >= limit; false: value <= limit
   double limit = 0;
   double after = 0;       // s: not checked before this time
+  bool after_inflow = false;  // not checked before the inflow has released its last grain (its mass_limit)
 };
 
 struct Scenario {

@@ -24,6 +24,8 @@ class InflowFeed {
   void admit(Simulation& sim);
 
   std::int64_t first_id() const { return first_id_; }
+  // The stream has released its last grain (its mass limit reached, none waiting).
+  bool ended() const { return stream_.exhausted(); }
   // The mass of the inflow's grains in the box (kg).
   double mass_entered(const World& w) const;
   // inflow_rates and inflow_counts (source/inflow.hpp), and inflow_F_measured: the mass
