@@ -4,6 +4,7 @@
 
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/io/checked_file.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu::python {

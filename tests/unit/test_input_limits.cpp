@@ -12,10 +12,10 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/size_distribution.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/build_world.hpp"
-#include "tsubu/source/size_distribution.hpp"
 #include "tsubu/source/sources.hpp"
 
 namespace tsubu {

@@ -11,11 +11,11 @@
 
 #include "tsubu/contact/force_field.hpp"
 #include "tsubu/core/random.hpp"
+#include "tsubu/core/size_distribution.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/source/build_world.hpp"
-#include "tsubu/source/size_distribution.hpp"
 #include "scenario_run.hpp"
 
 namespace tsubu {

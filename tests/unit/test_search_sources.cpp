@@ -7,8 +7,8 @@
 
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/size_distribution.hpp"
 #include "tsubu/search/pair_search.hpp"
-#include "tsubu/source/size_distribution.hpp"
 #include "tsubu/source/sources.hpp"
 
 namespace tsubu {

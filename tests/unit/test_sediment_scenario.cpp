@@ -139,5 +139,23 @@ TEST(SedimentScenario, DepositAnalysesOnASimpleCubicBed) {
   EXPECT_EQ(r.count("coordination_grains"), 1u);
 }
 
+// The result names (scenario/result_names.hpp, what a [[stop]] may name) and the values
+// (analysis/results.hpp) are written apart: every kind gives one value for each of its names.
+TEST(SedimentScenario, EveryAnalysisKindGivesAValueForEachOfItsNames) {
+  const Scenario sc = load_scenario(kScenario);
+  World w = build_world(sc);
+  w.particles.add(0, 0, 0.004, 2650, Vec3{0.02, 0.02, 0.01}, {});
+  for (const std::string text :
+       {"type = 'solid_fraction'\nz_range = [0, 0.02]", "type = 'coordination'\nz_range = [0, 0.02]",
+        "type = 'deposit_height'", "type = 'porosity'", "type = 'segregation'\nz_range = [0, 0.02]",
+        "type = 'kinetic_energy'", "type = 'profiles'"}) {
+    const AnalysisSpec a = load_analysis_text(sc, text, "test");
+    std::vector<std::pair<std::string, double>> results;
+    ASSERT_NO_THROW(results = analysis_results(a, w)) << text;  // std::logic_error: a count that differs
+    EXPECT_EQ(results.size(), analysis_result_names(a).size()) << text;
+    EXPECT_EQ(results.empty(), a.kind == AnalysisSpec::Kind::profiles) << text;
+  }
+}
+
 }  // namespace
 }  // namespace tsubu

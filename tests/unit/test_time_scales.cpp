@@ -168,3 +168,24 @@ TEST(TimeScales, CheckAndRunPrintTheWarning) {
   ASSERT_EQ(run({"check", kValidSmall}, log), 0) << slurp(log);
   EXPECT_EQ(slurp(log).find("WARNING"), std::string::npos) << slurp(log);
 }
+
+// An inflow's smallest grain is its size distribution's (SizeDistribution::smallest), for
+// every kind: a sieve curve of 4-10 mm grains has its shortest contact between two 4 mm
+// grains, which at dt = 1e-5 s get about 6 steps of it: a warning, and a suggestion from
+// them, not from the largest grains.
+TEST(TimeScales, AnInflowsSmallestGrainIsItsDistributionsForASieveCurve) {
+  const Scenario sc =
+      load_scenario((fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "sediment_inflow.toml").string(),
+                    {R"(particles.0.distribution={type="table", d=[0.004,0.006,0.01], percent_finer_by_mass=[0,30,100]})"});
+  const TimeScales ts = time_scales(sc, build_world(sc));
+  ASSERT_EQ(ts.grains.size(), 2u);
+  EXPECT_EQ(ts.grains[0].diameter, 0.004);
+  EXPECT_EQ(ts.grains[1].diameter, 0.01);
+  EXPECT_TRUE(std::isfinite(ts.grains[0].contact_time) && ts.grains[0].contact_time > 0);
+  EXPECT_NEAR(ts.shortest_contact / ts.grains[0].contact_time, 1, 1e-12);
+  EXPECT_NE(ts.shortest_contact_what.find("0.004 m quartz on 0.004 m quartz"), std::string::npos) << ts.shortest_contact_what;
+  EXPECT_NEAR(ts.suggested_dt, ts.shortest_contact / kStepsPerContact, 1e-18);
+  EXPECT_FALSE(ts.safe);
+  ASSERT_EQ(ts.warnings.size(), 1u);
+  EXPECT_NE(ts.warnings[0].find("cannot resolve the stiffest contact"), std::string::npos) << ts.warnings[0];
+}

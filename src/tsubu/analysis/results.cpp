@@ -1,54 +1,56 @@
 #include "tsubu/analysis/results.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "tsubu/analysis/measures.hpp"
 
 namespace tsubu {
 
-std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w) {
+namespace {
+
+// The values of analysis_result_names(a), in its order.
+std::vector<double> analysis_values(const AnalysisSpec& a, const World& w) {
   if (a.kind == AnalysisSpec::Kind::profiles) return {};  // written to profiles/ (analysis/profiles.hpp)
   const Packing p = packing_of(w);
   const double grains = static_cast<double>(grains_in_slab(p.position, a.z_low, a.z_high));
   switch (a.kind) {
-    case AnalysisSpec::Kind::solid_fraction: return {{a.name, solid_fraction(p, a.z_low, a.z_high)}, {a.name + "_grains", grains}};
+    case AnalysisSpec::Kind::solid_fraction: return {solid_fraction(p, a.z_low, a.z_high), grains};
     case AnalysisSpec::Kind::coordination: {
       const Coordination c = coordination_numbers(p.position, pair_contact_counts(w), a.z_low, a.z_high);
-      return {{a.name, c.all},
-              {a.name + "_no_rattlers", c.without_rattlers_2},
-              {a.name + "_no_rattlers_4", c.without_rattlers_4},
-              {a.name + "_grains", grains}};
+      return {c.all, c.without_rattlers_2, c.without_rattlers_4, grains};
     }
     case AnalysisSpec::Kind::deposit_height:
-      return {{a.name, a.slice_rule ? deposit_height(p, a.slices) : surface_height(p, a.surface)}};
+      return {a.slice_rule ? deposit_height(p, a.slices) : surface_height(p, a.surface)};
     case AnalysisSpec::Kind::porosity: {
       const PorosityEstimate e = porosity_monte_carlo(p, a.z_low, a.z_high, a.points, a.seed);
-      return {{a.name, e.porosity},
-              {a.name + "_standard_error", e.standard_error},
-              {a.name + "_points", static_cast<double>(e.points)},
-              {a.name + "_exact", 1 - solid_fraction(p, a.z_low, a.z_high)},
-              {a.name + "_grains", grains}};
+      return {e.porosity, e.standard_error, static_cast<double>(e.points), 1 - solid_fraction(p, a.z_low, a.z_high), grains};
     }
     case AnalysisSpec::Kind::segregation:
-      return {{a.name, small_grain_share(p, a.z_low, a.z_high, a.small_diameter)}, {a.name + "_grains", grains}};
+      return {small_grain_share(p, a.z_low, a.z_high, a.small_diameter), grains};
     case AnalysisSpec::Kind::kinetic_energy: {
       const Energies e = energies(w);
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
       double mass = 0;
       for (double m : w.particles.mass) mass += m;
-      return {{a.name, kinetic},
-              {a.name + "_per_grain", n > 0 ? kinetic / n : 0.0},
-              {a.name + "_speed_rms", mass > 0 ? std::sqrt(2 * e.kinetic_translational / mass) : 0.0}};
+      return {kinetic, n > 0 ? kinetic / n : 0.0, mass > 0 ? std::sqrt(2 * e.kinetic_translational / mass) : 0.0};
     }
     case AnalysisSpec::Kind::profiles: break;  // above
   }
   return {};
 }
 
-std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
-  std::vector<std::string> names;
-  for (auto& [name, value] : analysis_results(a, World{})) names.push_back(std::move(name));  // no grains: cheap
-  return names;
+}  // namespace
+
+std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec& a, const World& w) {
+  std::vector<std::string> names = analysis_result_names(a);
+  const std::vector<double> values = analysis_values(a, w);
+  if (values.size() != names.size())
+    throw std::logic_error("analysis \"" + a.name + "\": " + std::to_string(values.size()) + " values for " +
+                           std::to_string(names.size()) + " result names");
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t k = 0; k < names.size(); ++k) out.emplace_back(std::move(names[k]), values[k]);
+  return out;
 }
 
 std::vector<std::string> analysis_result_units(const AnalysisSpec& a) {

@@ -1,18 +1,16 @@
 #include "tsubu/app/checkpoint.hpp"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstring>
-#include <functional>
 #include <fstream>
 #include <sstream>
 #include <type_traits>
 
-#include "tsubu/core/error.hpp"
+#include "tsubu/io/checked_file.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
@@ -53,23 +51,6 @@ constexpr std::size_t kHeaderSize = 32;
 std::uint64_t fnv1a64(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ULL) {
   for (std::size_t k = 0; k < n; ++k) h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ULL;
   return h;
-}
-
-// Every use is on the way of a write: a failure is a WriteError (exit code 5 unless caught).
-[[noreturn]] void fail_errno(const std::string& what, const std::filesystem::path& p) {
-  throw WriteError(what + " " + p.string() + ": " + std::strerror(errno));
-}
-
-void write_all(int fd, const char* data, std::size_t n, const std::filesystem::path& name) {
-  std::size_t done = 0;
-  while (done < n) {
-    const ssize_t k = ::write(fd, data + done, n - done);
-    if (k < 0) {
-      if (errno == EINTR) continue;
-      fail_errno("cannot write", name);
-    }
-    done += static_cast<std::size_t>(k);
-  }
 }
 
 // The 32-byte header: magic, version, byte-order mark, payload size, FNV-1a 64 of the payload.
@@ -330,46 +311,6 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   return c;
 }
 
-void sync_file(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) fail_errno("cannot open", path);
-  const int rc = ::fsync(fd);
-  ::close(fd);
-  if (rc != 0) fail_errno("cannot fsync", path);
-}
-
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) fail_errno("cannot create", tmp);
-  // A failed write leaves no half-written .tmp behind (on a full disk it holds space).
-  try {
-    fill(fd);
-    if (::fsync(fd) != 0) fail_errno("cannot fsync", tmp);
-  } catch (...) {
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    throw;
-  }
-  if (::close(fd) != 0) {
-    const int err = errno;
-    ::unlink(tmp.c_str());
-    errno = err;
-    fail_errno("cannot close", tmp);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail_errno("cannot rename to", path);
-  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
-}
-
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  write_file_atomically(path, [&](int fd) { write_all(fd, bytes.data(), bytes.size(), path); });
-}
-
 std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& dir) {
   std::vector<std::pair<std::int64_t, std::filesystem::path>> found;
   std::error_code ec;
@@ -398,7 +339,7 @@ std::filesystem::path write_checkpoint(const std::filesystem::path& dir, const C
     write_payload(c, w);
     w.flush();
     const std::string h = header(w.size, w.checksum);
-    if (::pwrite(fd, h.data(), kHeaderSize, 0) != static_cast<ssize_t>(kHeaderSize)) fail_errno("cannot write", file);
+    if (::pwrite(fd, h.data(), kHeaderSize, 0) != static_cast<ssize_t>(kHeaderSize)) throw_write_error("write", file, errno);
   });
   const auto all = list_checkpoints(dir);
   for (std::size_t k = static_cast<std::size_t>(std::max(keep, 1)); k < all.size(); ++k) std::filesystem::remove(all[k]);

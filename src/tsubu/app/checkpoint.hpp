@@ -3,7 +3,6 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -73,13 +72,6 @@ inline constexpr std::uint32_t kCheckpointVersion = 3;
 std::string encode_checkpoint(const Checkpoint& c);
 // Throws CheckpointError naming what is wrong.
 Checkpoint decode_checkpoint(const std::string& bytes);
-
-// Writes `bytes` (or what `fill` writes to the open descriptor) to path.tmp, fsyncs it,
-// renames it to `path` and fsyncs the folder. Failures throw WriteError (so does sync_file).
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill);
-// fsync of an existing file (data written through another handle).
-void sync_file(const std::filesystem::path& path);
 
 // The checkpoint files of a folder (step_<step>.tsbk), newest (highest step) first.
 std::vector<std::filesystem::path> list_checkpoints(const std::filesystem::path& dir);

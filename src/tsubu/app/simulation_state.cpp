@@ -1,9 +1,11 @@
 #include "tsubu/app/simulation_state.hpp"
 
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "tsubu/core/error.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
 
@@ -50,28 +52,37 @@ void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>
   write();
 }
 
-Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used) {
+Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used,
+                                  const CheckpointChoice& choice) {
   namespace fs = std::filesystem;
   const auto files = list_checkpoints(dir);
   if (files.empty())
-    throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to resume" +
+    throw std::runtime_error("no checkpoint in " + dir.string() + " (step_*.tsbk): nothing to " + choice.purpose +
                              (fs::exists(dir) ? ""
                                               : "; a run writes checkpoints only when [output] checkpoint_every_steps or "
                                                 "checkpoint_every_seconds is above 0"));
+  std::ostringstream later;  // the times of the valid checkpoints after choice.at, for the error
   for (const auto& f : files) {
     try {
       Checkpoint c = read_checkpoint(f);
+      if (choice.at && c.time > *choice.at) {
+        later << (later.tellp() > 0 ? ", " : "") << c.time;
+        continue;
+      }
       used = f;
       return c;
     } catch (const CheckpointError& e) {
-      // Kept for inspection, out of the way of the next checkpoints.
       std::error_code ec;
-      fs::rename(f, f.string() + ".damaged", ec);
-      std::fprintf(stderr, "tsubu: checkpoint %s is unusable (%s); renamed to *.damaged, trying the previous one\n",
-                   f.string().c_str(), e.what());
+      if (choice.rename_damaged) fs::rename(f, f.string() + ".damaged", ec);  // kept for inspection
+      std::fprintf(stderr, "tsubu: checkpoint %s is unusable (%s); %s\n", f.string().c_str(), e.what(),
+                   choice.rename_damaged ? "renamed to *.damaged, trying the previous one" : "skipped");
     }
   }
-  throw std::runtime_error("no valid checkpoint in " + dir.string() + ": cannot resume");
+  if (later.tellp() == 0) throw std::runtime_error("no valid checkpoint in " + dir.string() + ": nothing to " + choice.purpose);
+  std::ostringstream time;
+  time << *choice.at;
+  throw UsageError("--at " + time.str() + ": no checkpoint at or before this time; " + dir.string() +
+                   " holds checkpoints at t = " + later.str() + " s (the last two of the run and its end are kept)");
 }
 
 Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <optional>
 
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -21,10 +22,20 @@ void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFee
 // of a large run's state would double its peak memory) and given back whatever happens.
 void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>& write);
 
-// The newest checkpoint of dir that reads back (step_*.tsbk, newest first); unusable ones are
-// renamed to *.damaged with a warning on stderr. Sets `used` to its file. Throws
-// std::runtime_error when there is none.
-Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used);
+// Which checkpoint read_newest_checkpoint takes, and what it does with a damaged one.
+struct CheckpointChoice {
+  const char* purpose = "resume";  // the command, for messages ("nothing to resume")
+  std::optional<double> at;        // s: the newest at or before this time (tsubu export --at)
+  bool rename_damaged = true;      // false: leave a damaged file where it is (tsubu export)
+};
+
+// The newest checkpoint of dir that reads back (step_*.tsbk, newest first) and is at or
+// before choice.at; unusable ones are reported on stderr and renamed to *.damaged (out of the
+// way of the run's next checkpoints) or skipped. Sets `used` to its file. Throws
+// std::runtime_error when dir holds no valid checkpoint, UsageError when every valid one is
+// later than choice.at (naming their times).
+Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesystem::path& used,
+                                  const CheckpointChoice& choice = {});
 
 // The scenario a checkpoint stores (with its overrides), checked against its hash and dt.
 Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used);

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "tsubu/fluid/crowding.hpp"
-#include "tsubu/integrate/hermite_state.hpp"
 #include "tsubu/search/pair_search.hpp"
+#include "tsubu/world/kinematics.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {

@@ -68,7 +68,7 @@ void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::si
   DualContactGeometry g = pair_geometry<Dual>(ri, rj, p.mass[c.i], p.mass[c.j], DualVec3(d, a.v - b.v),
                                               DualVec3(a.v, a.a), DualVec3(b.v, b.a), DualVec3(a.w, a.alpha),
                                               DualVec3(b.w, b.alpha));
-  g.dt = static_cast<double>(kin.now - std::max(kin.s.time[c.i], kin.s.time[c.j])) * kin.tick;
+  g.dt = kin.since(std::max(kin.time[c.i], kin.time[c.j]));
   ContactHistory h = c.law_history(p);
   const ContactForceRate f = evaluate_with_rates(normal, tangential, g, h);
   c.set_law_history(p, h);
@@ -102,7 +102,7 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
   const DualVec3 v_centre(v_rel, a.a);
   DualContactGeometry g = wall_geometry<Dual>(r, p.mass[c.i], wall.normal, Dual(dist, dot(v_rel, wall.normal)),
                                               v_centre, DualVec3(a.w, a.alpha));
-  g.dt = static_cast<double>(kin.now - kin.s.time[c.i]) * kin.tick;
+  g.dt = kin.since(kin.time[c.i]);
   const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
   const DualVec3 n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);

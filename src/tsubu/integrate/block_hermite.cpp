@@ -47,7 +47,8 @@ std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 double BlockHermite::tick(const World& world) const { return std::ldexp(world.dt, -rules_.levels); }
 
 Predictor BlockHermite::predictor(const World& world, std::int64_t now) const {
-  return Predictor{world.particles, state_, world.domain, now, tick(world)};
+  return Predictor{world.particles, world.domain, state_.time, state_.acc, state_.jerk, state_.alpha, state_.alpha_dot,
+                   now, tick(world)};
 }
 
 int BlockHermite::level_for(double bound, const World& world) const {

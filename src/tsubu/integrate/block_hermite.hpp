@@ -11,6 +11,7 @@
 
 #include "tsubu/contact/force_field.hpp"
 #include "tsubu/integrate/hermite_state.hpp"
+#include "tsubu/world/kinematics.hpp"
 
 namespace tsubu {
 

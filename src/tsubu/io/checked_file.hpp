@@ -1,13 +1,30 @@
-// An output file whose every write is checked (docs/reliability.md): a write(2) that fails
-// (disk full, quota, I/O error) throws WriteError naming the file and the reason from the
-// `<<`, flush or close that hit it, so no output can end short without the run knowing.
+// Output whose every write is checked (docs/reliability.md): a write(2) that fails (disk
+// full, quota, I/O error) throws WriteError naming the file and the reason, so no output can
+// end short without the run knowing. CheckedFile, a stream, throws from the `<<`, flush or
+// close that hit it; write_file_atomically writes a whole file or leaves the old one.
 #pragma once
+#include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <ostream>
 #include <streambuf>
 #include <string>
 
 namespace tsubu {
+
+// Throws WriteError "cannot <what> <path>: <the reason of err>" (err an errno value).
+[[noreturn]] void throw_write_error(const std::string& what, const std::filesystem::path& path, int err);
+
+// Writes the n bytes at data to fd, retrying interrupted writes; a failure throws WriteError
+// naming `path`.
+void write_all(int fd, const char* data, std::size_t n, const std::filesystem::path& path);
+
+// Writes `bytes` (or what `fill` writes to the open descriptor) to path.tmp, fsyncs it,
+// renames it to `path` and fsyncs the folder. Failures throw WriteError (so does sync_file).
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(int fd)>& fill);
+// fsync of an existing file (data written through another handle).
+void sync_file(const std::filesystem::path& path);
 
 class CheckedFile : public std::ostream {
  public:

@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "tsubu/app/checkpoint.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/io/checked_file.hpp"
 
 namespace tsubu {
 

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "tsubu/analysis/results.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/scenario/reader.hpp"
+#include "tsubu/scenario/result_names.hpp"
 #include "tsubu/scenario/scenario.hpp"
 
 namespace tsubu {

@@ -7,11 +7,11 @@
 
 #include "tsubu/analysis/deposit.hpp"
 #include "tsubu/contact/law.hpp"
+#include "tsubu/core/size_distribution.hpp"
 #include "tsubu/fluid/fluid.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/search/pair_search.hpp"
-#include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
 
 namespace tsubu {

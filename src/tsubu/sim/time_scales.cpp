@@ -68,12 +68,8 @@ std::vector<GrainTimes> grain_sizes(const Scenario& sc, const World& w) {
     if (hi > 0) add(static_cast<int>(m), lo), add(static_cast<int>(m), hi);
   }
   if (const ParticleSource* src = inflow_source(sc)) {
-    const SizeDistribution& s = src->sizes;
-    const double smallest = s.kind == SizeDistribution::Kind::single      ? s.diameter
-                            : s.kind == SizeDistribution::Kind::lognormal ? (s.d_min > 0 ? s.d_min : s.median * std::exp(-6 * s.sigma))
-                                                                          : s.d_min;
-    add(src->material, smallest);
-    add(src->material, s.largest());
+    add(src->material, src->sizes.smallest());
+    add(src->material, src->sizes.largest());
   }
   std::sort(g.begin(), g.end(), [](const GrainTimes& a, const GrainTimes& b) {
     return a.material != b.material ? a.material < b.material : a.diameter < b.diameter;

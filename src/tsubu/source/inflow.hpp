@@ -23,9 +23,9 @@
 #include <utility>
 #include <vector>
 
+#include "tsubu/core/size_distribution.hpp"
 #include "tsubu/core/vec3.hpp"
 #include "tsubu/search/sphere_grid.hpp"
-#include "tsubu/source/size_distribution.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 

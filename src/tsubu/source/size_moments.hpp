@@ -2,7 +2,7 @@
 // mean of d^p over n(d) (docs/sedimentation.md). They give the grains per second
 // of a mass flux (mean grain volume) and check the samplers.
 #pragma once
-#include "tsubu/source/size_distribution.hpp"
+#include "tsubu/core/size_distribution.hpp"
 
 namespace tsubu {
 
