@@ -495,7 +495,7 @@ def deposit_cells(group, keys):
 
 ONE_SIZE = ("porosity", "porosity_exact", "porosity_grains", "coordination", "coordination_no_rattlers",
             "coordination_no_rattlers_4", "wall_time_s")
-MIXTURE = ("porosity", "porosity_exact", "porosity_grains", "coordination_no_rattlers_4", "gamma_upper",
+MIXTURE = ("porosity", "porosity_exact", "porosity_grains", "coordination", "coordination_no_rattlers_4", "gamma_upper",
            "gamma_lower", "wall_time_s")
 
 
