@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "tsubu/analysis/results.hpp"
 #include "tsubu/source/build_world.hpp"
@@ -82,6 +83,39 @@ TEST(SedimentScenario, RunStopsWhenTheGrainsHaveSettled) {
   const std::string series = slurp(dir + "/series.csv");
   EXPECT_NE(series.find(",particles,inflow_mass,deposit_height,porosity,"), std::string::npos);
   EXPECT_NE(series.find(",ke,ke_per_grain,ke_speed_rms\n"), std::string::npos);
+}
+
+TEST(SedimentScenario, DepositHeightRisesWithTheRain) {
+  // The surface rule on a small rain (block steps, 3.0-6 mm grains): 0 before the first
+  // grains land, then rising as they do; it never falls by more than a grain's diameter below
+  // what it has reached, nor jumps up by more than one.
+  const std::string dir = ::testing::TempDir() + "tsubu_rain_height_" + std::to_string(getpid());
+  const std::string cmd = std::string(TSUBU_BINARY) + " run " + TSUBU_SOURCE_DIR + "/tests/scenarios/rain_small.toml --out " + dir +
+                          " --overwrite > " + dir + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir + ".log");
+  const std::string series = slurp(dir + "/series.csv");
+  std::vector<std::string> columns;
+  std::size_t line_end = series.find('\n'), at = 0;
+  for (std::size_t comma; (comma = series.find_first_of(",", at)) < line_end; at = comma + 1) columns.push_back(series.substr(at, comma - at));
+  columns.push_back(series.substr(at, line_end - at));
+  const auto column = static_cast<std::size_t>(std::find(columns.begin(), columns.end(), "deposit_height") - columns.begin());
+  ASSERT_LT(column, columns.size());
+  std::vector<double> height;
+  for (std::size_t start = line_end + 1; start < series.size(); start = series.find('\n', start) + 1) {
+    std::size_t field = start;
+    for (std::size_t k = 0; k < column; ++k) field = series.find(',', field) + 1;
+    height.push_back(std::strtod(series.c_str() + field, nullptr));
+  }
+  const double d_max = 0.006;
+  ASSERT_GE(height.size(), 10u);
+  EXPECT_EQ(height.front(), 0.0);
+  double reached = 0;
+  for (std::size_t k = 1; k < height.size(); ++k) {
+    EXPECT_GE(height[k], reached - d_max) << "row " << k;
+    EXPECT_LE(height[k], height[k - 1] + d_max) << "row " << k;
+    reached = std::max(reached, height[k]);
+  }
+  EXPECT_GT(height.back(), d_max);  // the deposit is more than a grain deep by t = 0.25 s
 }
 
 TEST(SedimentScenario, AtRestStopWaitsForTheInflowToEnd) {
