@@ -9,6 +9,7 @@
 #include <span>
 
 #include "tsubu/core/vec3.hpp"
+#include "tsubu/scenario/deposit_rules.hpp"
 #include "tsubu/world/domain.hpp"
 
 namespace tsubu {
@@ -31,33 +32,10 @@ double solid_fraction(const Packing& p, double a, double b);
 // Grains with their centre in a < z < b.
 long grains_in_slab(std::span<const Vec3> position, double a, double b);
 
-// The deposit's surface, the default rule for the deposit height (docs/sedimentation.md,
-// "Deposit height"): the solid fraction of a window of thickness `window` (about d_max)
-// that slides up from `floor` in steps of window/8; the surface is where it first falls
-// below half the largest value met below it (that value taken as at least
-// kDepositSolidFraction), interpolated linearly between steps. A deposit of uniform solid
-// fraction above kDepositSolidFraction with a flat top at h gives h exactly, whatever its
-// density; it reports a height from the first grains on and rises as grains land, and a
-// cloud of falling grains looser than kDepositSolidFraction / 2 is not taken for deposit.
-// While the window on the floor is less than half full, the height is its centre scaled by
-// its fill (0 for no grain within `window` of the floor). Windows reach up to `top`.
-inline constexpr double kDepositSolidFraction = 0.4;  // looser than any deposit of spheres at rest
-struct SurfaceRule {
-  double floor = 0;   // m
-  double window = 0;  // m
-  double top = 0;     // m
-};
+// The deposit's surface by the surface rule (scenario/deposit_rules.hpp).
 double surface_height(const Packing& p, const SurfaceRule& rule);
 
-// The experiment's slice rule for the deposit height (the paper's protocol): slices of `slice` from `floor`; the deposit
-// has reached z_k = floor + k slice once the solid fraction of floor < z < z_k exceeds
-// `threshold`. Returns z_k - floor for the largest such k <= slices (0: none).
-struct SliceRule {
-  double floor = 0;       // m
-  double slice = 0;       // m, 0.1 L in the experiment
-  int slices = 10;        // up to floor + 10 slices = L
-  double threshold = 0.6; // solid fraction
-};
+// The deposit height by the paper's slice rule (scenario/deposit_rules.hpp).
 double deposit_height(const Packing& p, const SliceRule& rule);
 
 // Porosity 1 - phi of a < z < b as the fraction of `points` uniformly random points

@@ -5,9 +5,9 @@
 #include <utility>
 #include <vector>
 
-#include "tsubu/analysis/deposit.hpp"
 #include "tsubu/contact/law.hpp"
 #include "tsubu/core/size_distribution.hpp"
+#include "tsubu/scenario/deposit_rules.hpp"
 #include "tsubu/fluid/fluid.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
