@@ -530,3 +530,45 @@ TEST(Resume, ARunWithoutCheckpointsSaysSo) {
   EXPECT_NE(slurp(dir.path() / "log").find("checkpoint_every_steps or checkpoint_every_seconds is above 0"), std::string::npos)
       << slurp(dir.path() / "log");
 }
+
+// Issue 25, item 1. A resume whose --set turns checkpoints off still ends with a checkpoint of
+// its end, so that a plain resume afterwards has nothing to do (it used to resume from the
+// older checkpoint, cutting series.csv and track.csv back and rolling run.json back). A resume
+// that would delete rows past the end of the run it continues (left by a session without a
+// checkpoint of its end) is refused, exit 2, naming them and the --set that keeps them.
+TEST(Resume, ARunEndsWithACheckpointAndResumeNeverDeletesRowsPastItsEnd) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out", old = dir.path() / "old";
+  const fs::path log = dir.path() / "log";
+  ASSERT_EQ(run({"run", (kScenarios / "inflow_small.toml").string(), "--out", out.string(), "--set",
+                 "simulation.duration=0.05", "--set", "output.checkpoint_every_steps=500", "--set", "output.vtk_interval=0"},
+                log),
+            0)
+      << slurp(log);
+  fs::copy(out / "checkpoint", old);
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.1", "--set", "output.checkpoint_every_steps=0",
+                 "--set", "output.checkpoint_every_seconds=0"},
+                log),
+            0)
+      << slurp(log);
+  EXPECT_EQ(newest_step(out), 5000) << "a resumed run ends with a checkpoint of its end";
+  const std::string series = slurp(out / "series.csv"), track = slurp(out / "track.csv");
+  ASSERT_EQ(run({"resume", out.string()}, log), 0) << slurp(log);
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+  EXPECT_NE(slurp(out / "run.json").find("\"steps\": 5000"), std::string::npos) << slurp(out / "run.json");
+
+  // Only the checkpoints of the first run left: its end is t = 0.05 s, the outputs reach 0.1 s.
+  fs::remove_all(out / "checkpoint");
+  fs::copy(old, out / "checkpoint");
+  ASSERT_EQ(run({"resume", out.string()}, log), 2) << slurp(log);
+  const std::string message = slurp(log);
+  EXPECT_NE(message.find(out.string() + " holds 10 rows of series.csv and "), std::string::npos) << message;
+  EXPECT_NE(message.find("past t = 0.05 s, up to t = 0.1 s"), std::string::npos) << message;
+  EXPECT_NE(message.find("resume with --set simulation.duration=0.1 to write them again"), std::string::npos) << message;
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.1"}, log), 0) << slurp(log);
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+}

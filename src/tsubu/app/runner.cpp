@@ -6,6 +6,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -26,6 +27,7 @@
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/format.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
 #include "tsubu/io/frames.hpp"
@@ -254,7 +256,9 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const std::int64_t track_every = every(sc.output.track_interval, sc.dt);
   const std::int64_t ckpt_every = sc.output.checkpoint_every_steps;
   const double ckpt_seconds = sc.output.checkpoint_every_seconds;
-  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0;
+  // A resumed run continues from checkpoints and ends with one even when its --set turned
+  // the periodic ones off: a later resume from an older one would cut its outputs back.
+  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0 || from;
   const Progress::Mode progress_mode_now = progress_mode(progress);
   const double log_interval = progress_mode_now == Progress::Mode::log ? progress_log_interval() : 0.0;
   const double wall_before = from ? from->wall_seconds : 0.0;  // earlier sessions
@@ -449,6 +453,36 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
   return load_scenario_text(run.text, run.file, overrides, false);
 }
 
+// A resume continues the outputs from their length at the checkpoint and ends at the end of
+// the run `sc` (as the checkpoint and the --sets give it): rows past that end, which a session
+// that left no checkpoint of its end may have written, would be deleted and not written
+// again. Refused, naming them and the --set that keeps them, before anything is touched.
+void refuse_losing_rows(const Scenario& sc, const Checkpoint& c, const std::filesystem::path& used,
+                        const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  const double end = static_cast<double>(std::llround(sc.duration / sc.dt)) * sc.dt;
+  std::string lost;
+  double last = end;
+  auto look = [&](const char* name, std::uint64_t bytes) {
+    std::ifstream in(fs::path(out_dir) / name, std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(bytes));
+    std::size_t rows = 0;
+    for (std::string line; std::getline(in, line) && !in.eof();) {  // complete rows only
+      const double time = std::strtod(line.c_str(), nullptr);  // the first column
+      if (time > end + 0.5 * sc.dt) ++rows, last = std::max(last, time);
+    }
+    if (rows > 0) lost += (lost.empty() ? "" : " and ") + std::to_string(rows) + " rows of " + name;
+  };
+  look("series.csv", c.output.series_bytes);
+  if (!sc.output.track.empty()) look("track.csv", c.output.track_bytes);
+  if (lost.empty()) return;
+  throw UsageError(out_dir + " holds " + lost + " past t = " + format_number(end) + " s, up to t = " + format_number(last) +
+                   " s: the end of the run as " + used.string() + " continues it (simulation.duration = " +
+                   format_number(sc.duration) + " s); a session that left no checkpoint of its end wrote them, and a " +
+                   "resume would delete them. Nothing was changed; resume with --set simulation.duration=" + format_number(last) +
+                   " to write them again");
+}
+
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
@@ -473,6 +507,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
   const Scenario stored = scenario_of(c, used);
   const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+  refuse_losing_rows(sc, c, used, out_dir);
   Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);
