@@ -270,6 +270,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   // Everything after a completed step; output files are flushed and synced first, so a
   // checkpoint never refers to rows that are not on disk.
   auto save_checkpoint = [&] {
+    require_finite_energies(world, forces.totals(world).elastic_energy);  // only good states are kept
     series.flush();
     if (track.is_open()) track.flush();
     if (profiles) profiles->flush();

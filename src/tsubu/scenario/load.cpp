@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "tsubu/analysis/results.hpp"
@@ -430,6 +431,13 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
   src.mass_limit = s.has("mass_limit") ? s.positive("mass_limit") : 0.0;
   src.omega_star_rms = s.real("omega_star_rms", 0.0);
   if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
+  // Each spin component is normal with sd 2 u_r Omega*_rms / d (source/inflow.cpp), within 9
+  // sd (Box-Muller): the largest grain's rotational energy must be a finite double.
+  const double inertia = M_PI / 60 * density * std::pow(d_max, 5);
+  const double spin_limit = std::sqrt(std::numeric_limits<double>::max()) / std::sqrt(0.5 * inertia * 3 * 9 * 9) * d_max / (2 * src.fall_speed);
+  if (!(src.omega_star_rms <= spin_limit))
+    s.fail("omega_star_rms", "gives the largest grains spins whose rotational energy is not a finite double: allowed [0, " +
+                                 num(spin_limit) + "]" + got(src.omega_star_rms));
 }
 
 void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {

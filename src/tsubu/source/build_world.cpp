@@ -171,6 +171,16 @@ World build_world(const Scenario& sc) {
           << " kg/m^3); diameters are in metres and must give a finite, non-zero mass and inertia";
         fail_at(grain.where, s.str());
       }
+      // Every energy of series.csv sums these: each must be a finite double.
+      const std::size_t i = w.particles.size() - 1;
+      if (!std::isfinite(w.particles.translational_energy(i)) || !std::isfinite(w.particles.rotational_energy(i))) {
+        std::ostringstream s;
+        s << "the velocity " << format_vec(grain.velocity) << " m/s and spin " << format_vec(grain.omega)
+          << " rad/s give a kinetic energy of " << w.particles.translational_energy(i) << " J and a rotational energy of "
+          << w.particles.rotational_energy(i) << " J (diameter " << grain.diameter
+          << " m); they must give finite energies (velocities in m/s, spins in rad/s)";
+        fail_at(grain.where, s.str());
+      }
       grains.push_back(grain);
       // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
       tolerance.push_back(from_file ? src.overlap_tolerance : 1e-9);
