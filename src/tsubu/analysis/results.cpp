@@ -1,6 +1,7 @@
 #include "tsubu/analysis/results.hpp"
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 
@@ -54,6 +55,18 @@ std::vector<std::string> analysis_result_units(const AnalysisSpec& a) {
                                                                    : "");
   }
   return units;
+}
+
+std::vector<std::string> series_columns(const Scenario& sc) {
+  std::vector<std::string> columns = {"time",    "kinetic_translational", "kinetic_rotational", "potential_gravity",
+                                      "elastic", "contacts",              "max_overlap_ratio"};
+  for (std::size_t k = 0; k < sc.walls.size(); ++k)
+    if (!sc.walls[k].motion.empty())
+      for (const char* what : {"_displacement", "_load"}) columns.push_back("wall" + std::to_string(k) + what);
+  if (sc.integrator == Integrator::block_hermite)
+    for (int k = 0; k <= sc.block_steps.levels; ++k) columns.push_back("level" + std::to_string(k));
+  if (inflow_source(sc)) columns.insert(columns.end(), {"particles", "inflow_mass"});
+  return columns;
 }
 
 }  // namespace tsubu

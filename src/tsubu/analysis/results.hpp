@@ -29,4 +29,9 @@ std::vector<std::string> analysis_result_names(const AnalysisSpec& a);
 // "" for fractions, coordination numbers and counts.
 std::vector<std::string> analysis_result_units(const AnalysisSpec& a);
 
+// The columns of series.csv before the analyses' results, in its order: time, the energies,
+// contacts and max_overlap_ratio; wall<k>_displacement and wall<k>_load per moving wall k;
+// level<k> per block-step level k; particles and inflow_mass with an inflow.
+std::vector<std::string> series_columns(const Scenario& sc);
+
 }  // namespace tsubu

@@ -187,11 +187,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     reopen(series, series_path, from->output.series_bytes);
   } else {
     series.open(series_path);
-    series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
-    for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
-    if (sim.block())  // particles per level (step dt/2^k)
-      for (int k = 0; k <= sc.block_steps.levels; ++k) series << ",level" << k;
-    if (inflow) series << ",particles,inflow_mass";
+    const std::vector<std::string> columns = series_columns(sc);
+    for (std::size_t k = 0; k < columns.size(); ++k) series << (k > 0 ? "," : "") << columns[k];
     for (const std::string& name : monitor.names()) series << ',' << name;
     series << '\n';
   }
@@ -240,7 +237,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     for (std::size_t k : moving)
       series << ',' << dot(world.walls[k].point - sc.walls[k].point, world.walls[k].normal) << ','
              << forces.wall_load(world, k);
-    if (sim.block())
+    if (sim.block())  // particles per level (step dt/2^k)
       for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
     if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
     for (double v : monitor.evaluate(world)) series << ',' << v;

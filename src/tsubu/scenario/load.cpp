@@ -12,6 +12,8 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
+#include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 
@@ -600,6 +602,33 @@ void read_profile_slices(Section& s, AnalysisSpec& a, const Scenario& sc) {
   a.class_edges.back() = hi;
 }
 
+// Each result is a column of series.csv and a key of run.json's results: none may be a
+// built-in column (or, with an inflow, one of its results) or a result of another analysis.
+void check_result_names(const Section& s, const AnalysisSpec& a, const Scenario& sc) {
+  const std::vector<std::string> mine = analysis_result_names(a);
+  auto listed = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+    return text;
+  };
+  const std::string these = "\"" + a.name + "\" names this analysis's results " + listed(mine) + ", but ";
+  const std::string allowed = "; allowed: a name whose results differ from every column and result";
+  const std::vector<std::string> columns = series_columns(sc),
+                                 inflow = inflow_source(sc) ? inflow_result_names() : std::vector<std::string>{};
+  for (const std::string& name : mine) {
+    if (std::find(columns.begin(), columns.end(), name) != columns.end())
+      s.fail("name", these + name + " is a built-in column of series.csv (" + listed(columns) + ")" + allowed);
+    if (std::find(inflow.begin(), inflow.end(), name) != inflow.end())
+      s.fail("name", these + name + " is a result of the inflow in run.json (" + listed(inflow) + ")" + allowed);
+    for (std::size_t k = 0; k < sc.analyses.size(); ++k) {
+      const std::vector<std::string> theirs = analysis_result_names(sc.analyses[k]);
+      if (std::find(theirs.begin(), theirs.end(), name) != theirs.end())
+        s.fail("name", these + name + " is also a result of analyses[" + std::to_string(k) + "] (name \"" +
+                           sc.analyses[k].name + "\": " + listed(theirs) + ")" + allowed);
+    }
+  }
+}
+
 void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
   using Kind = AnalysisSpec::Kind;
@@ -652,6 +681,7 @@ void read_analysis(Section s, Scenario& sc) {
   }
   for (const auto& other : sc.analyses)
     if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
+  check_result_names(s, a, sc);
   s.finish();
   sc.analyses.push_back(a);
 }

@@ -40,6 +40,9 @@ class InflowFeed {
   std::int64_t first_id_;
 };
 
+// The names of InflowFeed::results, in its order (they do not depend on the state).
+std::vector<std::string> inflow_result_names();
+
 // The unit of one of InflowFeed::results ("kg/s", "m", ...; "" for numbers and counts).
 std::string inflow_result_unit(const std::string& name);
 
