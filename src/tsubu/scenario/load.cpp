@@ -10,6 +10,7 @@
 
 #include "tsubu/analysis/results.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/format.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/inflow_feed.hpp"
@@ -103,11 +104,7 @@ void apply_override(toml::table& root, const std::string& text) {
   t->insert_or_assign(parts.back(), std::move(*parsed.get(parts.back())));
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v); }
 
 // ", got <v>": the end of a message about a value out of its allowed range.
 std::string got(double v) { return ", got " + num(v); }
@@ -415,10 +412,20 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
                                  got(src.solid_fraction));
   src.sizes = required_distribution(s, "inflow", box);
   const double d_max = src.sizes.largest();
+  // The entering grains, the largest included, must lie inside the domain. The value is
+  // compared with the bounds the message prints.
+  const double entry_low = box.lower.z + 0.5 * d_max, entry_high = box.upper.z - 0.5 * d_max;
+  if (!(entry_low < entry_high)) {
+    const bool unbounded = src.sizes.kind == SizeDistribution::Kind::lognormal && !(src.sizes.d_max > 0);
+    s.fail("distribution", "its largest grain, d = " + num(d_max) + " m" +
+                               (unbounded ? " (the median times e^(6 sigma): this log-normal has no d_max)" : "") +
+                               ", cannot enter: it does not fit in the domain's height, " + num(box.length(2)) +
+                               " m; allowed: a largest diameter below it (give the distribution a d_max)");
+  }
   src.entry_height = s.real("entry_height", box.lower.z + 2 * box.length(0));
-  if (!(src.entry_height - 0.5 * d_max > box.lower.z && src.entry_height + 0.5 * d_max <= box.upper.z))
-    s.fail("entry_height", "the entering grains must lie inside the domain: allowed (" + num(box.lower.z + 0.5 * d_max) + ", " +
-                               num(box.upper.z - 0.5 * d_max) + "] m, a largest radius inside the domain (the default is 2 L above domain.lower.z)" +
+  if (!(src.entry_height > entry_low && src.entry_height <= entry_high))
+    s.fail("entry_height", "the entering grains must lie inside the domain: allowed (" + num(entry_low) + ", " + num(entry_high) +
+                               "] m, a largest radius inside the domain (the default is 2 L above domain.lower.z)" +
                                got(src.entry_height));
   const double density = sc.materials[static_cast<std::size_t>(src.material)].density;
   if (s.has("fall_speed")) {
