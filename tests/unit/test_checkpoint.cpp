@@ -572,3 +572,35 @@ TEST(Resume, ARunEndsWithACheckpointAndResumeNeverDeletesRowsPastItsEnd) {
   EXPECT_EQ(slurp(out / "series.csv"), series);
   EXPECT_EQ(slurp(out / "track.csv"), track);
 }
+
+// Issue 25, item 10: SIGTERM during long analyses (eight porosity analyses of 10^7 points:
+// seconds per row) ends them a second later, between points, instead of waiting for the row:
+// exit 4 naming the step whose outputs are not written; the outputs hold whole rows only.
+TEST(Resume, SigtermInterruptsLongAnalyses) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  std::string analyses = "analyses=[";
+  for (int k = 0; k < 8; ++k)
+    analyses += (k ? ", " : "") + std::string("{type=\"porosity\", name=\"p") + std::to_string(k) +
+                "\", points=10000000, z_range=[0.001, 0.02]}";
+  analyses += "]";
+  const pid_t pid = spawn({"run", (kScenarios / "valid_small.toml").string(), "--out", out.string(), "--set", analyses,
+                           "--set", "output.vtk_interval=0"},
+                          dir.path() / "run.log");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGTERM);
+  const auto sent = std::chrono::steady_clock::now();
+  const int status = wait_for(pid);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  const std::string log = slurp(dir.path() / "run.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 4) << log;
+  EXPECT_NE(log.find("stopped by SIGTERM during the analyses of step 0 (t = 0 s), whose outputs are not written; no "
+                     "checkpoint was written before: run again"),
+            std::string::npos)
+      << log;
+  EXPECT_LT(waited, 5.0) << "the row's analyses take longer: they were not interrupted";
+  const std::string series = slurp(out / "series.csv");
+  EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 1) << series;  // the header alone
+  EXPECT_NE(slurp(out / "run.json").find("\"status\": \"interrupted\""), std::string::npos);
+}

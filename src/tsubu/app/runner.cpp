@@ -28,6 +28,7 @@
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
+#include "tsubu/core/stop_signal.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
 #include "tsubu/io/frames.hpp"
@@ -117,15 +118,14 @@ std::size_t data_rows(const std::filesystem::path& path) {
 
 namespace {
 
-volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 // SIGINT and SIGTERM ask the loop to stop after the current step with a final checkpoint;
 // a second one acts as usual (SA_RESETHAND). The previous handlers return afterwards.
 class StopSignals {
  public:
   StopSignals() {
-    g_signal = 0;
+    reset_stop_signal();
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
@@ -232,6 +232,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const Energies e = energies(world);
     const ContactTotals c = forces.totals(world);
     energy_watch.observe(world, c.elastic_energy);  // before the row: a failing state is not written
+    const std::vector<double>& results = monitor.evaluate(world);  // before it too: a signal may cut it short
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
            << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
     for (std::size_t k : moving)
@@ -240,7 +241,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (sim.block())  // particles per level (step dt/2^k)
       for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
     if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
-    for (double v : monitor.evaluate(world)) series << ',' << v;
+    for (double v : results) series << ',' << v;
     series << '\n';
     if (profiles) profiles->write(world);
     stop_reason = monitor.stop_reason();
@@ -352,8 +353,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       const bool last = s == steps || !stop_reason.empty();
       if (s % track_every == 0 || last) write_track();
       if (vtk_every && (s % vtk_every == 0 || last)) write_frame();
-      if (g_signal != 0) {
-        const int sig = g_signal;
+      if (g_stop_signal != 0) {
+        const int sig = g_stop_signal;
         save_checkpoint();
         finish_summary();
         std::ostringstream msg;
@@ -372,6 +373,21 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series.close();
     track.close();
     if (profiles) profiles->close();
+  } catch (const StopRequested&) {
+    // SIGINT/SIGTERM during a long analysis: the step's outputs are not written, so this
+    // step cannot be checkpointed; the newest checkpoint stays the last one.
+    finish_summary();
+    series.flush();
+    if (track.is_open()) track.flush();
+    if (profiles) profiles->flush();
+    std::ostringstream msg;
+    msg << "stopped by " << (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << " during the analyses of step " << world.step
+        << " (t = " << world.time << " s), whose outputs are not written; "
+        << (checkpoint_step < 0 ? "no checkpoint was written before: run again"
+                                : "the newest checkpoint (step " + std::to_string(checkpoint_step) + ") is in " +
+                                      ckpt_dir.string() + ": `tsubu resume " + out_dir + "` continues the run");
+    write_run_json(json, run_id, sc, threads, summary, "interrupted", msg.str());
+    throw Interrupted(msg.str());
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();

@@ -437,6 +437,14 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
       s.fail("fall_speed", "is required here: the default, Rubey's settling speed, needs gravity and grains denser than the fluid");
     src.fall_speed = rubey_speed(density, sc.fluid.density, sc.fluid.viscosity, d_max, norm(sc.gravity));
   }
+  // A grain due during a step enters up to u_r dt below the entry plane: that must stay inside
+  // the domain (a speed such as 1e300 would release the whole column at the first step).
+  const double speed_limit = (src.entry_height - entry_low) / sc.dt;
+  if (!(src.fall_speed < speed_limit))
+    s.fail("fall_speed", std::string(s.has("fall_speed") ? "" : "(Rubey's settling speed of the largest grain, the default) ") +
+                             "carries the column " + num(src.fall_speed * sc.dt) +
+                             " m in one step (fall_speed * simulation.dt), past the domain's floor: allowed (0, " +
+                             num(speed_limit) + ") m/s, (entry_height - d_max/2 - domain.lower.z) / dt" + got(src.fall_speed));
   src.mass_limit = s.has("mass_limit") ? s.positive("mass_limit") : 0.0;
   src.omega_star_rms = s.real("omega_star_rms", 0.0);
   if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
@@ -674,8 +682,13 @@ void read_analysis(Section s, Scenario& sc) {
   }
   if (a.kind == Kind::profiles) read_profile_slices(s, a, sc);
   if (a.kind == Kind::porosity) {
-    a.points = static_cast<long>(s.integer("points", a.points));
-    if (a.points < 1) s.fail("points", "must be >= 1 (65536 give a standard error below 0.002)" + got(static_cast<double>(a.points)));
+    constexpr std::int64_t most = 10'000'000;  // a standard error below 1.6e-4, seconds per row
+    const std::int64_t points = s.integer("points", a.points);
+    if (points < 1 || points > most)
+      s.fail("points", "allowed 1 to " + std::to_string(most) +
+                           " (65536 give a standard error below 0.002), got " +
+                           std::to_string(points));
+    a.points = static_cast<long>(points);
     const std::int64_t seed = s.integer("seed", static_cast<std::int64_t>(sc.seed));
     if (seed < 0) s.fail("seed", "must be >= 0");
     a.seed = static_cast<std::uint64_t>(seed);
