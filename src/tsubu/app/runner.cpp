@@ -263,15 +263,22 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   double last_checkpoint = 0;
+  // Rows reach the files at least every second (tail -f, a kill before the first checkpoint);
+  // flushed, not synced: a checkpoint syncs what it refers to.
+  double last_flush = 0;
+  auto flush_rows = [&] {
+    series.flush();
+    if (track.is_open()) track.flush();
+    if (profiles) profiles->flush();
+    last_flush = elapsed();
+  };
   std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
 
   // Everything after a completed step; output files are flushed and synced first, so a
   // checkpoint never refers to rows that are not on disk.
   auto save_checkpoint = [&] {
     require_finite_energies(world, forces.totals(world).elastic_energy);  // only good states are kept
-    series.flush();
-    if (track.is_open()) track.flush();
-    if (profiles) profiles->flush();
+    flush_rows();
     Checkpoint c;
     store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
     c.run_id = run_id;
@@ -366,6 +373,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       }
       if (!last && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
         save_checkpoint();
+      else if (elapsed() - last_flush >= 1.0)
+        flush_rows();
       if (report.active() && report.due(elapsed())) report.report(s, world.time, elapsed(), physics);
     }
     report.finish();
@@ -377,9 +386,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     // SIGINT/SIGTERM during a long analysis: the step's outputs are not written, so this
     // step cannot be checkpointed; the newest checkpoint stays the last one.
     finish_summary();
-    series.flush();
-    if (track.is_open()) track.flush();
-    if (profiles) profiles->flush();
+    flush_rows();
     std::ostringstream msg;
     msg << "stopped by " << (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << " during the analyses of step " << world.step
         << " (t = " << world.time << " s), whose outputs are not written; "
@@ -391,8 +398,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();
-    series.flush();
-    if (profiles) profiles->flush();
+    flush_rows();
     write_frame();
     const std::string msg = e.what() + kept_checkpoint();
     write_run_json(json, run_id, sc, threads, summary, "failed", msg);
