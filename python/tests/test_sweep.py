@@ -126,6 +126,30 @@ def test_killed_case_resumes(grid_run, tmp_path):
     same_outputs(case, reference / CASES[0])
 
 
+def test_a_sweep_locks_its_folder_and_waits_for_a_case_another_tsubu_runs(tmp_path):
+    """Issue 25, item 4: a second sweep into the folder of a running one exits 2 naming it and
+    touches nothing; a sweep restarted after a SIGKILL, while the killed sweep's run still
+    goes on, waits for that run instead of failing the case (both exited 1 before, with
+    finished cases recorded as failed and one logs/ for both)."""
+    file = write_sweep(tmp_path / "one.toml", tmp_path / "out", grid={"particles.0.solid_fraction": [0.1],
+                       "simulation.seed": [3]}, set={"simulation.duration": 1.2})
+    case, log = tmp_path / "out" / CASES[0], tmp_path / "out" / "logs" / f"{CASES[0]}.log"
+    first = subprocess.Popen([sys.executable, "-m", "tsubu.sweep", str(file)], env=ENV, stderr=subprocess.DEVNULL)
+    wait_for(lambda: (case / ".tsubu-run").exists(), "the case's run to start")
+    second = sweep(file)
+    assert second.returncode == 2, second.stderr
+    assert f"out: in use by another sweep (pid {first.pid} on " in second.stderr
+    assert log.read_text().count("$ ") == 1
+    first.kill()  # its run goes on: a session of its own
+    first.wait()
+    assert not (case / "run.json").exists(), "the run ended before the sweep was killed: make it longer"
+    done = sweep(file)
+    assert done.returncode == 0, done.stderr
+    assert f"sweep: {CASES[0]}: running in another tsubu (pid " in done.stderr
+    assert results(tmp_path / "out")[CASES[0]]["status"] == "ok"
+    assert log.read_text().count("$ ") == 1  # the case was not run again
+
+
 def test_interrupt_stops_runs_with_checkpoints(grid_run, tmp_path):
     """SIGINT to the sweep: its runs stop with a checkpoint (exit 4, status interrupted in
     results.csv); the next sweep resumes them to the same outputs as uninterrupted runs."""

@@ -16,6 +16,7 @@ Exit codes: 0 every case finished, 1 a case failed, 2 a bad sweep file or comman
 """
 import argparse
 import csv
+import fcntl
 import itertools
 import json
 import math
@@ -23,6 +24,7 @@ import os
 import re
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -33,6 +35,8 @@ from pathlib import Path
 __all__ = ["SweepError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
 
 INTERRUPTED = 4
+SWEEP_LOCK = ".tsubu-sweep-lock"  # in the output root, held by the sweep running there
+RUN_LOCK = ".tsubu-lock"  # in a case's folder, held by the tsubu running there (io/output_dir.hpp)
 
 
 class SweepError(ValueError):
@@ -281,6 +285,46 @@ class _Progress:
               f"elapsed {_duration(elapsed)}, {eta}", file=self.stream, flush=True)
 
 
+def _holder_text():
+    """Who holds a lock, as tsubu writes it: "pid 123 on host, since 2026-12-01T10:00:00Z"."""
+    return f"pid {os.getpid()} on {socket.gethostname()}, since {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}"
+
+
+def _lock_output(output):
+    """Holds OUTPUT/.tsubu-sweep-lock (flock, released however the sweep ends) and returns its
+    file; a folder another sweep holds raises SweepError naming the holder."""
+    lock = open(output / SWEEP_LOCK, "a+")
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        lock.seek(0)
+        holder = lock.readline().strip() or "holder unknown"
+        lock.close()
+        raise SweepError(f"{output}: in use by another sweep ({holder}); wait for it to end or choose another "
+                         "output folder") from None
+    lock.seek(0)
+    lock.truncate()
+    lock.write(_holder_text() + "\n")
+    lock.flush()
+    return lock
+
+
+def _held_elsewhere(folder):
+    """The holder of a case folder's tsubu lock when a tsubu runs there (a run of an earlier,
+    killed sweep), else None."""
+    try:
+        fd = os.open(folder / RUN_LOCK, os.O_RDONLY)
+    except FileNotFoundError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        return None
+    except BlockingIOError:
+        return Path(folder / RUN_LOCK).read_text(errors="replace").strip() or "holder unknown"
+    finally:
+        os.close(fd)  # releases the shared lock at once
+
+
 def write_results(sweep, path):
     """results.csv: one row per case, parameters, status, timing and run.json's results."""
     result_keys = sorted({k for c in sweep.cases if c.summary for k in c.summary.get("results", {})})
@@ -352,12 +396,28 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
               f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
         return sweep.cases
     sweep.output.mkdir(parents=True, exist_ok=True)
+    lock = _lock_output(sweep.output)
+    try:
+        return _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress)
+    finally:
+        lock.close()
+
+
+def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
+    """run_sweep's work, with the output folder locked."""
     logs = sweep.output / "logs"
     logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
     report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
+    waiting = []  # cases whose folder another tsubu holds: brought forward once it ends
+
+    def wait_for_holder(case, holder):
+        case.status, case.message = "running", f"running in another tsubu ({holder}); waiting for it to end"
+        waiting.append(case)
+        if progress:
+            print(f"sweep: {case.name}: {case.message}", file=progress, flush=True)
 
     def counts():
         return (sum(c.status == "ok" for c in chosen), len(running), sum(c.status == "failed" for c in chosen))
@@ -365,6 +425,9 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     def finish(proc):
         case, log_path, log = running.pop(proc)
         log.close()
+        if proc.returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
+            wait_for_holder(case, _held_elsewhere(case.folder) or "holder unknown")  # it started just before
+            return
         case.refresh()
         # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
         # without a valid checkpoint) leave none, or the one of the session before.
@@ -385,9 +448,21 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     queue = list(reversed(work))
     started = False
     try:
-        while (queue or running) and not stop:
+        while (queue or running or waiting) and not stop:
+            for case in [c for c in waiting if not _held_elsewhere(c.folder)]:
+                waiting.remove(case)
+                command = case.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed)
+                if command:
+                    queue.append((case, command))
+                else:  # the other tsubu finished it (or it failed there)
+                    write_results(sweep, results)
+                    report.report(*counts())
             while queue and len(running) < jobs and not stop:
                 case, command = queue.pop()
+                holder = _held_elsewhere(case.folder)
+                if holder:
+                    wait_for_holder(case, holder)
+                    continue
                 log_path = logs / f"{case.name}.log"
                 log = open(log_path, "a")
                 print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)

@@ -145,3 +145,27 @@ TEST(BadScenarioCli, CommandLineMistakesExitWith2) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 25, items 12 and 14: a value at the inclusive bound the message prints is accepted
+// (8 mm grains at the default entry_height, 0.032 m in a 0.036 m box, were refused with
+// "allowed (0.004, 0.032], got 0.032": 0.032 + 0.004 > 0.036 in floating point), and values
+// are printed with the digits that tell them apart (0.3000001 was "got 0.3").
+TEST(BadScenarioCli, AValueAtItsPrintedBoundIsAcceptedAndValuesArePrintedExactly) {
+  const std::string inflow = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "inflow_small.toml").string();
+  const std::string single = "particles.0.distribution={type=\"single\", diameter=0.008}";
+  const Outcome at = run_tsubu({"check", inflow, "--set", single, "--set", "simulation.duration=0.001"});
+  EXPECT_EQ(at.exit_code, 0) << at.err;
+  const Outcome above = run_tsubu({"check", inflow, "--set", single, "--set", "particles.0.entry_height=0.03200000000000001"});
+  EXPECT_EQ(above.exit_code, 2) << above.err;
+  EXPECT_NE(above.err.find("allowed (0.004, 0.032] m, a largest radius inside the domain (the default is 2 L above "
+                           "domain.lower.z), got 0.03200000000000001"),
+            std::string::npos)
+      << above.err;
+  const Outcome phi = run_tsubu({"check", inflow, "--set", "particles.0.solid_fraction=0.3000001"});
+  EXPECT_EQ(phi.exit_code, 2) << phi.err;
+  EXPECT_NE(phi.err.find("allowed (0, 0.3], got 0.3000001"), std::string::npos) << phi.err;
+}
+
+}  // namespace

@@ -530,3 +530,77 @@ TEST(Resume, ARunWithoutCheckpointsSaysSo) {
   EXPECT_NE(slurp(dir.path() / "log").find("checkpoint_every_steps or checkpoint_every_seconds is above 0"), std::string::npos)
       << slurp(dir.path() / "log");
 }
+
+// Issue 25, item 1. A resume whose --set turns checkpoints off still ends with a checkpoint of
+// its end, so that a plain resume afterwards has nothing to do (it used to resume from the
+// older checkpoint, cutting series.csv and track.csv back and rolling run.json back). A resume
+// that would delete rows past the end of the run it continues (left by a session without a
+// checkpoint of its end) is refused, exit 2, naming them and the --set that keeps them.
+TEST(Resume, ARunEndsWithACheckpointAndResumeNeverDeletesRowsPastItsEnd) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out", old = dir.path() / "old";
+  const fs::path log = dir.path() / "log";
+  ASSERT_EQ(run({"run", (kScenarios / "inflow_small.toml").string(), "--out", out.string(), "--set",
+                 "simulation.duration=0.05", "--set", "output.checkpoint_every_steps=500", "--set", "output.vtk_interval=0"},
+                log),
+            0)
+      << slurp(log);
+  fs::copy(out / "checkpoint", old);
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.1", "--set", "output.checkpoint_every_steps=0",
+                 "--set", "output.checkpoint_every_seconds=0"},
+                log),
+            0)
+      << slurp(log);
+  EXPECT_EQ(newest_step(out), 5000) << "a resumed run ends with a checkpoint of its end";
+  const std::string series = slurp(out / "series.csv"), track = slurp(out / "track.csv");
+  ASSERT_EQ(run({"resume", out.string()}, log), 0) << slurp(log);
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+  EXPECT_NE(slurp(out / "run.json").find("\"steps\": 5000"), std::string::npos) << slurp(out / "run.json");
+
+  // Only the checkpoints of the first run left: its end is t = 0.05 s, the outputs reach 0.1 s.
+  fs::remove_all(out / "checkpoint");
+  fs::copy(old, out / "checkpoint");
+  ASSERT_EQ(run({"resume", out.string()}, log), 2) << slurp(log);
+  const std::string message = slurp(log);
+  EXPECT_NE(message.find(out.string() + " holds 10 rows of series.csv and "), std::string::npos) << message;
+  EXPECT_NE(message.find("past t = 0.05 s, up to t = 0.1 s"), std::string::npos) << message;
+  EXPECT_NE(message.find("resume with --set simulation.duration=0.1 to write them again"), std::string::npos) << message;
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+  ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.1"}, log), 0) << slurp(log);
+  EXPECT_EQ(slurp(out / "series.csv"), series);
+  EXPECT_EQ(slurp(out / "track.csv"), track);
+}
+
+// Issue 25, item 10: SIGTERM during long analyses (eight porosity analyses of 10^7 points:
+// seconds per row) ends them a second later, between points, instead of waiting for the row:
+// exit 4 naming the step whose outputs are not written; the outputs hold whole rows only.
+TEST(Resume, SigtermInterruptsLongAnalyses) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  std::string analyses = "analyses=[";
+  for (int k = 0; k < 8; ++k)
+    analyses += (k ? ", " : "") + std::string("{type=\"porosity\", name=\"p") + std::to_string(k) +
+                "\", points=10000000, z_range=[0.001, 0.02]}";
+  analyses += "]";
+  const pid_t pid = spawn({"run", (kScenarios / "valid_small.toml").string(), "--out", out.string(), "--set", analyses,
+                           "--set", "output.vtk_interval=0"},
+                          dir.path() / "run.log");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGTERM);
+  const auto sent = std::chrono::steady_clock::now();
+  const int status = wait_for(pid);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  const std::string log = slurp(dir.path() / "run.log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 4) << log;
+  EXPECT_NE(log.find("stopped by SIGTERM during the analyses of step 0 (t = 0 s), whose outputs are not written; no "
+                     "checkpoint was written before: run again"),
+            std::string::npos)
+      << log;
+  EXPECT_LT(waited, 5.0) << "the row's analyses take longer: they were not interrupted";
+  const std::string series = slurp(out / "series.csv");
+  EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 1) << series;  // the header alone
+  EXPECT_NE(slurp(out / "run.json").find("\"status\": \"interrupted\""), std::string::npos);
+}

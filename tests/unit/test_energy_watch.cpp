@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
 
@@ -47,6 +48,33 @@ namespace {
 TEST(EnergyWatch, TheDiagnosticNamesAParticle) {
   const std::string why = run_and_report({});
   EXPECT_NE(why.find("has the most kinetic energy"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace tsubu
+
+namespace tsubu {
+namespace {
+
+// Issue 25, item 2: a kinetic energy that is not a finite double stops the run naming the
+// particle, with the growth check on or off (it computed inf - inf and let the run go on,
+// writing inf in every row).
+TEST(EnergyWatch, AnEnergyThatIsNotFiniteStopsTheRunNamingTheParticle) {
+  World w;
+  w.particles.add(3, 0, 0.002, 2500, {0.01, 0.01, 0.01}, {0, 0, -1});
+  w.particles.add(7, 0, 0.002, 2500, {0.02, 0.01, 0.01}, {});
+  w.particles.omega[1] = {0, 1e160, 0};
+  for (const double limit : {0.0, 0.5}) {
+    EnergyWatch watch(w, limit);
+    try {
+      watch.observe(w, 0);
+      ADD_FAILURE() << "no error with energy_growth_limit = " << limit;
+    } catch (const NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find("the kinetic energy of particle id 7 is not finite"), std::string::npos) << e.what();
+    }
+  }
+  w.particles.omega[1] = {0, 1e150, 0};  // large, but its energy is finite
+  EXPECT_NO_THROW(EnergyWatch(w, 0.5).observe(w, 0));
 }
 
 }  // namespace

@@ -138,3 +138,29 @@ TEST(OutputIntervals, LongerThanTheRunWriteTheFirstAndLastStepOnly) {
   const std::string series = slurp(out / "series.csv");
   EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 3) << series;  // header, step 0, the last step
 }
+
+namespace {
+
+// Issue 25, item 6: rows reach series.csv within about a second, not only with a checkpoint
+// (by default every 600 s): the first rows of a long run are on disk while it runs.
+TEST(OutputIntervals, SeriesRowsReachTheDiskWithinSeconds) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const pid_t pid = spawn({"run", kScenario, "--out", out.string(), "--set", "simulation.duration=100", "--set",
+                           "output.series_interval=1e300", "--set", "output.vtk_interval=0"},
+                          dir.path() / "run.log");
+  std::string series;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::count(series.begin(), series.end(), '\n') < 2 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    series = slurp(out / "series.csv");
+  }
+  int status = 0;
+  const bool running = waitpid(pid, &status, WNOHANG) == 0;
+  kill(pid, SIGKILL);
+  wait_for(pid);
+  EXPECT_TRUE(running) << "the run ended: make it longer";
+  EXPECT_EQ(std::count(series.begin(), series.end(), '\n'), 2) << "the header and the row of t = 0:\n" << series;
+}
+
+}  // namespace

@@ -56,22 +56,29 @@ std::string slurp(const std::string& path) {
   return out;
 }
 
-// The "settled" stop: a mass limit of 12 grains, then [[stop]] on the kinetic energy per
-// grain. The run ends ok before its duration, names the condition, and tracks an inflow id
-// that never arrives without error (no rows for it).
-TEST(SedimentScenario, RunStopsWhenTheGrainsHaveSettled) {
-  const std::string dir = ::testing::TempDir() + "tsubu_settle_" + std::to_string(getpid());
+// inflow_small.toml with a kinetic_energy analysis "ke" and the [[stop]] `stop` (TOML keys),
+// its inflow stopped after 12 grains, run for at most 3 s into the folder `dir`; the run's
+// exit status.
+int run_twelve_grains(const std::string& dir, const std::string& stop) {
   std::string text = slurp(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/inflow_small.toml");
-  text += "\n[[analyses]]\ntype = \"kinetic_energy\"\nname = \"ke\"\n\n[[stop]]\nwhen = \"ke_per_grain\"\nat_most = 1e-9\nafter = 0.1\n";
+  text += "\n[[analyses]]\ntype = \"kinetic_energy\"\nname = \"ke\"\n\n[[stop]]\n" + stop;
   const std::string scenario = dir + ".toml";
   std::FILE* f = std::fopen(scenario.c_str(), "w");
-  ASSERT_NE(f, nullptr);
+  if (!f) return -1;
   std::fputs(text.c_str(), f);
   std::fclose(f);
   const double grain = 2650 * M_PI / 6 * 0.004 * 0.004 * 0.004;
   const std::string cmd = std::string(TSUBU_BINARY) + " run " + scenario + " --out " + dir + " --set simulation.duration=3" +
                           " --set particles.0.mass_limit=" + std::to_string(12.5 * grain) + " > " + dir + ".log 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir + ".log");
+  return std::system(cmd.c_str());
+}
+
+// The "settled" stop: a mass limit of 12 grains, then [[stop]] on the kinetic energy per
+// grain. The run ends ok before its duration, names the condition, and tracks an inflow id
+// that never arrives without error (no rows for it).
+TEST(SedimentScenario, RunStopsWhenTheGrainsHaveSettled) {
+  const std::string dir = ::testing::TempDir() + "tsubu_settle_" + std::to_string(getpid());
+  ASSERT_EQ(run_twelve_grains(dir, "when = \"ke_per_grain\"\nat_most = 1e-9\nafter = 0.1\n"), 0) << slurp(dir + ".log");
   const std::string json = slurp(dir + "/run.json");
   EXPECT_NE(json.find("\"status\": \"ok\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"stop_reason\": \"ke_per_grain = "), std::string::npos) << json;
@@ -122,17 +129,7 @@ TEST(SedimentScenario, AtRestStopWaitsForTheInflowToEnd) {
   // The at-rest protocol (docs/sedimentation.md): a condition that holds at the start (no
   // grain moves) is not checked before the inflow has released its last grain.
   const std::string dir = ::testing::TempDir() + "tsubu_rest_" + std::to_string(getpid());
-  std::string text = slurp(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/inflow_small.toml");
-  text += "\n[[analyses]]\ntype = \"kinetic_energy\"\nname = \"ke\"\n\n[[stop]]\nwhen = \"ke_speed_rms\"\nat_most = 0.003\nafter_inflow = true\n";
-  const std::string scenario = dir + ".toml";
-  std::FILE* f = std::fopen(scenario.c_str(), "w");
-  ASSERT_NE(f, nullptr);
-  std::fputs(text.c_str(), f);
-  std::fclose(f);
-  const double grain = 2650 * M_PI / 6 * 0.004 * 0.004 * 0.004;
-  const std::string cmd = std::string(TSUBU_BINARY) + " run " + scenario + " --out " + dir + " --set simulation.duration=3" +
-                          " --set particles.0.mass_limit=" + std::to_string(12.5 * grain) + " > " + dir + ".log 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir + ".log");
+  ASSERT_EQ(run_twelve_grains(dir, "when = \"ke_speed_rms\"\nat_most = 0.003\nafter_inflow = true\n"), 0) << slurp(dir + ".log");
   const std::string json = slurp(dir + "/run.json");
   EXPECT_NE(json.find("\"stop_reason\": \"ke_speed_rms = "), std::string::npos) << json;
   EXPECT_NE(json.find("\"particles\": 12,"), std::string::npos) << json;

@@ -6,6 +6,7 @@
 
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/core/random.hpp"
+#include "tsubu/core/stop_signal.hpp"
 #include "tsubu/search/sphere_grid.hpp"
 
 namespace tsubu {
@@ -81,6 +82,7 @@ PorosityEstimate porosity_monte_carlo(const Packing& p, double a, double b, long
   Random rng(seed);
   long solid = 0;
   for (long n = 0; n < points; ++n) {
+    if (n % 65536 == 65535) poll_stop();
     const Vec3 x{rng.uniform(d.lower.x, d.upper.x), rng.uniform(d.lower.y, d.upper.y), rng.uniform(a, b)};
     solid += grains.overlaps(x, 0);
   }

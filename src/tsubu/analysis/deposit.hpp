@@ -42,6 +42,7 @@ double deposit_height(const Packing& p, const SliceRule& rule);
 // (from the seed) that lie in no grain, with its binomial standard error
 // sqrt(lambda (1 - lambda) / points); 0.25/points bounds its square, so 65536 points give
 // an error below 0.002. Points are tested against the grains near them only (a cell grid).
+// Throws StopRequested when SIGINT/SIGTERM asks a run to stop (core/stop_signal.hpp).
 struct PorosityEstimate {
   double porosity = 1;
   double standard_error = 0;

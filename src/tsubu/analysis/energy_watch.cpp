@@ -1,11 +1,32 @@
 #include "tsubu/analysis/energy_watch.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/core/error.hpp"
 
 namespace tsubu {
+
+void require_finite_energies(const World& world, double elastic_energy) {
+  const Particles& p = world.particles;
+  std::ostringstream msg;
+  msg << "step " << world.step << ", t = " << world.time << " s: ";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double translational = p.translational_energy(i), rotational = p.rotational_energy(i);
+    if (std::isfinite(translational) && std::isfinite(rotational)) continue;
+    const Vec3 &v = p.velocity[i], &w = p.omega[i];
+    msg << "the kinetic energy of particle id " << p.id[i] << " is not finite (translational " << translational
+        << " J at velocity (" << v.x << ", " << v.y << ", " << v.z << ") m/s, rotational " << rotational
+        << " J at spin (" << w.x << ", " << w.y << ", " << w.z << ") rad/s; diameter " << 2 * p.radius[i] << " m)";
+    throw NumericalError(msg.str());
+  }
+  const Energies e = energies(world);
+  if (std::isfinite(e.kinetic_translational + e.kinetic_rotational + e.potential_gravity + elastic_energy)) return;
+  msg << "the energies are not finite (kinetic " << e.kinetic_translational << " J, rotational " << e.kinetic_rotational
+      << " J, gravitational " << e.potential_gravity << " J, elastic " << elastic_energy << " J)";
+  throw NumericalError(msg.str());
+}
 
 EnergyWatch::EnergyWatch(const World& world, double limit) : limit_(limit) {
   on_ = limit > 0 && !world.fluid.enabled;
@@ -16,6 +37,7 @@ EnergyWatch::EnergyWatch(const World& world, double limit) : limit_(limit) {
 }
 
 void EnergyWatch::observe(const World& world, double elastic_energy) {
+  require_finite_energies(world, elastic_energy);
   if (!on_) return;
   const Energies e = energies(world);
   const double active = e.kinetic_translational + e.kinetic_rotational + elastic_energy;

@@ -5,6 +5,11 @@
 
 namespace tsubu {
 
+// Throws NumericalError naming the first particle whose kinetic energy is not a finite
+// double (a speed or spin beyond about 1e150 in SI units), or the sum that is not: every
+// energy in series.csv, and the growth check below (inf - inf), would be meaningless.
+void require_finite_energies(const World& world, double elastic_energy);
+
 class EnergyWatch {
  public:
   // `limit`: the allowed growth of the total energy E = kinetic + rotational + gravitational +
@@ -13,7 +18,8 @@ class EnergyWatch {
   // particles: moving walls, a fluid, or gravity along a periodic axis.
   EnergyWatch(const World& world, double limit);
 
-  // Throws NumericalError when the growth exceeds the limit.
+  // Throws NumericalError when an energy is not finite (require_finite_energies, whatever
+  // the limit) or the growth exceeds the limit.
   void observe(const World& world, double elastic_energy);
 
   // The state to carry over a checkpoint: the reference energy and the largest active energy.

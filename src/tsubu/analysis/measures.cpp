@@ -9,8 +9,8 @@ Energies energies(const World& w) {
   const Particles& p = w.particles;
   Energies e;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    e.kinetic_translational += 0.5 * p.mass[i] * norm2(p.velocity[i]);
-    e.kinetic_rotational += 0.5 * p.inertia[i] * norm2(p.omega[i]);
+    e.kinetic_translational += p.translational_energy(i);
+    e.kinetic_rotational += p.rotational_energy(i);
     e.potential_gravity -= p.mass[i] * dot(w.gravity, p.position[i]);
   }
   return e;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 

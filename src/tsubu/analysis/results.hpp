@@ -18,4 +18,5 @@ std::vector<std::pair<std::string, double>> analysis_results(const AnalysisSpec&
 // "" for fractions, coordination numbers and counts.
 std::vector<std::string> analysis_result_units(const AnalysisSpec& a);
 
+
 }  // namespace tsubu

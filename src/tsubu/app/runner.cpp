@@ -6,6 +6,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -22,10 +23,13 @@
 #include "tsubu/analysis/monitor.hpp"
 #include "tsubu/analysis/profiles.hpp"
 #include "tsubu/analysis/results.hpp"
+#include "tsubu/scenario/result_names.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/format.hpp"
+#include "tsubu/core/stop_signal.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
 #include "tsubu/io/frames.hpp"
@@ -115,15 +119,14 @@ std::size_t data_rows(const std::filesystem::path& path) {
 
 namespace {
 
-volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 // SIGINT and SIGTERM ask the loop to stop after the current step with a final checkpoint;
 // a second one acts as usual (SA_RESETHAND). The previous handlers return afterwards.
 class StopSignals {
  public:
   StopSignals() {
-    g_signal = 0;
+    reset_stop_signal();
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
@@ -185,11 +188,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     reopen(series, series_path, from->output.series_bytes);
   } else {
     series.open(series_path);
-    series << "time,kinetic_translational,kinetic_rotational,potential_gravity,elastic,contacts,max_overlap_ratio";
-    for (std::size_t k : moving) series << ",wall" << k << "_displacement,wall" << k << "_load";
-    if (sim.block())  // particles per level (step dt/2^k)
-      for (int k = 0; k <= sc.block_steps.levels; ++k) series << ",level" << k;
-    if (inflow) series << ",particles,inflow_mass";
+    const std::vector<std::string> columns = series_columns(sc);
+    for (std::size_t k = 0; k < columns.size(); ++k) series << (k > 0 ? "," : "") << columns[k];
     for (const std::string& name : monitor.names()) series << ',' << name;
     series << '\n';
   }
@@ -233,15 +233,16 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const Energies e = energies(world);
     const ContactTotals c = forces.totals(world);
     energy_watch.observe(world, c.elastic_energy);  // before the row: a failing state is not written
+    const std::vector<double>& results = monitor.evaluate(world);  // before it too: a signal may cut it short
     series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
            << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
     for (std::size_t k : moving)
       series << ',' << dot(world.walls[k].point - sc.walls[k].point, world.walls[k].normal) << ','
              << forces.wall_load(world, k);
-    if (sim.block())
+    if (sim.block())  // particles per level (step dt/2^k)
       for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
     if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
-    for (double v : monitor.evaluate(world)) series << ',' << v;
+    for (double v : results) series << ',' << v;
     series << '\n';
     if (profiles) profiles->write(world);
     stop_reason = monitor.stop_reason(inflow && inflow->ended());
@@ -254,21 +255,31 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const std::int64_t track_every = every(sc.output.track_interval, sc.dt);
   const std::int64_t ckpt_every = sc.output.checkpoint_every_steps;
   const double ckpt_seconds = sc.output.checkpoint_every_seconds;
-  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0;
+  // A resumed run continues from checkpoints and ends with one even when its --set turned
+  // the periodic ones off: a later resume from an older one would cut its outputs back.
+  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0 || from;
   const Progress::Mode progress_mode_now = progress_mode(progress);
   const double log_interval = progress_mode_now == Progress::Mode::log ? progress_log_interval() : 0.0;
   const double wall_before = from ? from->wall_seconds : 0.0;  // earlier sessions
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   double last_checkpoint = 0;
+  // Rows reach the files at least every second (tail -f, a kill before the first checkpoint);
+  // flushed, not synced: a checkpoint syncs what it refers to.
+  double last_flush = 0;
+  auto flush_rows = [&] {
+    series.flush();
+    if (track.is_open()) track.flush();
+    if (profiles) profiles->flush();
+    last_flush = elapsed();
+  };
   std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
 
   // Everything after a completed step; output files are flushed and synced first, so a
   // checkpoint never refers to rows that are not on disk.
   auto save_checkpoint = [&] {
-    series.flush();
-    if (track.is_open()) track.flush();
-    if (profiles) profiles->flush();
+    require_finite_energies(world, forces.totals(world).elastic_energy);  // only good states are kept
+    flush_rows();
     Checkpoint c;
     store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
     c.run_id = run_id;
@@ -350,8 +361,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       const bool last = s == steps || !stop_reason.empty();
       if (s % track_every == 0 || last) write_track();
       if (vtk_every && (s % vtk_every == 0 || last)) write_frame();
-      if (g_signal != 0) {
-        const int sig = g_signal;
+      if (g_stop_signal != 0) {
+        const int sig = g_stop_signal;
         save_checkpoint();
         finish_summary();
         std::ostringstream msg;
@@ -363,6 +374,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       }
       if (!last && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
         save_checkpoint();
+      else if (elapsed() - last_flush >= 1.0)
+        flush_rows();
       if (report.active() && report.due(elapsed())) report.report(s, world.time, elapsed(), physics);
     }
     report.finish();
@@ -370,11 +383,23 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     series.close();
     track.close();
     if (profiles) profiles->close();
+  } catch (const StopRequested&) {
+    // SIGINT/SIGTERM during a long analysis: the step's outputs are not written, so this
+    // step cannot be checkpointed; the newest checkpoint stays the last one.
+    finish_summary();
+    flush_rows();
+    std::ostringstream msg;
+    msg << "stopped by " << (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << " during the analyses of step " << world.step
+        << " (t = " << world.time << " s), whose outputs are not written; "
+        << (checkpoint_step < 0 ? "no checkpoint was written before: run again"
+                                : "the newest checkpoint (step " + std::to_string(checkpoint_step) + ") is in " +
+                                      ckpt_dir.string() + ": `tsubu resume " + out_dir + "` continues the run");
+    write_run_json(json, run_id, sc, threads, summary, "interrupted", msg.str());
+    throw Interrupted(msg.str());
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();
-    series.flush();
-    if (profiles) profiles->flush();
+    flush_rows();
     write_frame();
     const std::string msg = e.what() + kept_checkpoint();
     write_run_json(json, run_id, sc, threads, summary, "failed", msg);
@@ -449,6 +474,36 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
   return load_scenario_text(run.text, run.file, overrides, false);
 }
 
+// A resume continues the outputs from their length at the checkpoint and ends at the end of
+// the run `sc` (as the checkpoint and the --sets give it): rows past that end, which a session
+// that left no checkpoint of its end may have written, would be deleted and not written
+// again. Refused, naming them and the --set that keeps them, before anything is touched.
+void refuse_losing_rows(const Scenario& sc, const Checkpoint& c, const std::filesystem::path& used,
+                        const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  const double end = static_cast<double>(std::llround(sc.duration / sc.dt)) * sc.dt;
+  std::string lost;
+  double last = end;
+  auto look = [&](const char* name, std::uint64_t bytes) {
+    std::ifstream in(fs::path(out_dir) / name, std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(bytes));
+    std::size_t rows = 0;
+    for (std::string line; std::getline(in, line) && !in.eof();) {  // complete rows only
+      const double time = std::strtod(line.c_str(), nullptr);  // the first column
+      if (time > end + 0.5 * sc.dt) ++rows, last = std::max(last, time);
+    }
+    if (rows > 0) lost += (lost.empty() ? "" : " and ") + std::to_string(rows) + " rows of " + name;
+  };
+  look("series.csv", c.output.series_bytes);
+  if (!sc.output.track.empty()) look("track.csv", c.output.track_bytes);
+  if (lost.empty()) return;
+  throw UsageError(out_dir + " holds " + lost + " past t = " + format_number(end) + " s, up to t = " + format_number(last) +
+                   " s: the end of the run as " + used.string() + " continues it (simulation.duration = " +
+                   format_number(sc.duration) + " s); a session that left no checkpoint of its end wrote them, and a " +
+                   "resume would delete them. Nothing was changed; resume with --set simulation.duration=" + format_number(last) +
+                   " to write them again");
+}
+
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
@@ -473,6 +528,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
   const Scenario stored = scenario_of(c, used);
   const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+  refuse_losing_rows(sc, c, used, out_dir);
   Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);

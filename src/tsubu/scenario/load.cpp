@@ -5,9 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/format.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -100,11 +102,7 @@ void apply_override(toml::table& root, const std::string& text) {
   t->insert_or_assign(parts.back(), std::move(*parsed.get(parts.back())));
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v); }
 
 // ", got <v>": the end of a message about a value out of its allowed range.
 std::string got(double v) { return ", got " + num(v); }
@@ -419,10 +417,20 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
                                  got(src.solid_fraction));
   src.sizes = required_distribution(s, "inflow", box);
   const double d_max = src.sizes.largest();
+  // The entering grains, the largest included, must lie inside the domain. The value is
+  // compared with the bounds the message prints.
+  const double entry_low = box.lower.z + 0.5 * d_max, entry_high = box.upper.z - 0.5 * d_max;
+  if (!(entry_low < entry_high)) {
+    const bool unbounded = src.sizes.kind == SizeDistribution::Kind::lognormal && !(src.sizes.d_max > 0);
+    s.fail("distribution", "its largest grain, d = " + num(d_max) + " m" +
+                               (unbounded ? " (the median times e^(6 sigma): this log-normal has no d_max)" : "") +
+                               ", cannot enter: it does not fit in the domain's height, " + num(box.length(2)) +
+                               " m; allowed: a largest diameter below it (give the distribution a d_max)");
+  }
   src.entry_height = s.real("entry_height", box.lower.z + 2 * box.length(0));
-  if (!(src.entry_height - 0.5 * d_max > box.lower.z && src.entry_height + 0.5 * d_max <= box.upper.z))
-    s.fail("entry_height", "the entering grains must lie inside the domain: allowed (" + num(box.lower.z + 0.5 * d_max) + ", " +
-                               num(box.upper.z - 0.5 * d_max) + "] m, a largest radius inside the domain (the default is 2 L above domain.lower.z)" +
+  if (!(src.entry_height > entry_low && src.entry_height <= entry_high))
+    s.fail("entry_height", "the entering grains must lie inside the domain: allowed (" + num(entry_low) + ", " + num(entry_high) +
+                               "] m, a largest radius inside the domain (the default is 2 L above domain.lower.z)" +
                                got(src.entry_height));
   const double density = sc.materials[static_cast<std::size_t>(src.material)].density;
   if (s.has("fall_speed")) {
@@ -434,11 +442,26 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
       s.fail("fall_speed", "is required here: the default, Rubey's settling speed, needs gravity and grains denser than the fluid");
     src.fall_speed = rubey_speed(density, sc.fluid.density, sc.fluid.viscosity, d_max, norm(sc.gravity));
   }
+  // A grain due during a step enters up to u_r dt below the entry plane: that must stay inside
+  // the domain (a speed such as 1e300 would release the whole column at the first step).
+  const double speed_limit = (src.entry_height - entry_low) / sc.dt;
+  if (!(src.fall_speed < speed_limit))
+    s.fail("fall_speed", std::string(s.has("fall_speed") ? "" : "(Rubey's settling speed of the largest grain, the default) ") +
+                             "carries the column " + num(src.fall_speed * sc.dt) +
+                             " m in one step (fall_speed * simulation.dt), past the domain's floor: allowed (0, " +
+                             num(speed_limit) + ") m/s, (entry_height - d_max/2 - domain.lower.z) / dt" + got(src.fall_speed));
   src.mass_limit = s.real("mass_limit", 0.0);
   if (!(src.mass_limit >= 0) || !std::isfinite(src.mass_limit))
     s.fail("mass_limit", "allowed 0 (no limit) or a mass > 0 (kg)" + got(src.mass_limit));
   src.omega_star_rms = s.real("omega_star_rms", 0.0);
   if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
+  // Each spin component is normal with sd 2 u_r Omega*_rms / d (source/inflow.cpp), within 9
+  // sd (Box-Muller): the largest grain's rotational energy must be a finite double.
+  const double inertia = M_PI / 60 * density * std::pow(d_max, 5);
+  const double spin_limit = std::sqrt(std::numeric_limits<double>::max()) / std::sqrt(0.5 * inertia * 3 * 9 * 9) * d_max / (2 * src.fall_speed);
+  if (!(src.omega_star_rms <= spin_limit))
+    s.fail("omega_star_rms", "gives the largest grains spins whose rotational energy is not a finite double: allowed [0, " +
+                                 num(spin_limit) + "]" + got(src.omega_star_rms));
 }
 
 void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {
@@ -603,6 +626,33 @@ void read_profile_slices(Section& s, AnalysisSpec& a, const Scenario& sc) {
   a.class_edges.back() = hi;
 }
 
+// Each result is a column of series.csv and a key of run.json's results: none may be a
+// built-in column (or, with an inflow, one of its results) or a result of another analysis.
+void check_result_names(const Section& s, const AnalysisSpec& a, const Scenario& sc) {
+  const std::vector<std::string> mine = analysis_result_names(a);
+  auto listed = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+    return text;
+  };
+  const std::string these = "\"" + a.name + "\" names this analysis's results " + listed(mine) + ", but ";
+  const std::string allowed = "; allowed: a name whose results differ from every column and result";
+  const std::vector<std::string> columns = series_columns(sc);
+  for (const std::string& name : mine) {
+    if (std::find(columns.begin(), columns.end(), name) != columns.end())
+      s.fail("name", these + name + " is a built-in column of series.csv (" + listed(columns) + ")" + allowed);
+    if (has_inflow(sc) && name.starts_with("inflow_"))
+      s.fail("name", these + name + " begins with inflow_, the prefix of the inflow's results in run.json (inflow_F, "
+                     "inflow_Q, inflow_released, ...: docs/sedimentation.md)" + allowed);
+    for (std::size_t k = 0; k < sc.analyses.size(); ++k) {
+      const std::vector<std::string> theirs = analysis_result_names(sc.analyses[k]);
+      if (std::find(theirs.begin(), theirs.end(), name) != theirs.end())
+        s.fail("name", these + name + " is also a result of analyses[" + std::to_string(k) + "] (name \"" +
+                           sc.analyses[k].name + "\": " + listed(theirs) + ")" + allowed);
+    }
+  }
+}
+
 void read_analysis(Section s, Scenario& sc) {
   AnalysisSpec a;
   using Kind = AnalysisSpec::Kind;
@@ -656,8 +706,13 @@ void read_analysis(Section s, Scenario& sc) {
   }
   if (a.kind == Kind::profiles) read_profile_slices(s, a, sc);
   if (a.kind == Kind::porosity) {
-    a.points = static_cast<long>(s.integer("points", a.points));
-    if (a.points < 1) s.fail("points", "must be >= 1 (65536 give a standard error below 0.002)" + got(static_cast<double>(a.points)));
+    constexpr std::int64_t most = 10'000'000;  // a standard error below 1.6e-4, seconds per row
+    const std::int64_t points = s.integer("points", a.points);
+    if (points < 1 || points > most)
+      s.fail("points", "allowed 1 to " + std::to_string(most) +
+                           " (65536 give a standard error below 0.002), got " +
+                           std::to_string(points));
+    a.points = static_cast<long>(points);
     const std::int64_t seed = s.integer("seed", static_cast<std::int64_t>(sc.seed));
     if (seed < 0) s.fail("seed", "must be >= 0");
     a.seed = static_cast<std::uint64_t>(seed);
@@ -670,6 +725,7 @@ void read_analysis(Section s, Scenario& sc) {
   }
   for (const auto& other : sc.analyses)
     if (other.name == a.name) s.fail("name", "two analyses are named \"" + a.name + "\"; give each its own name");
+  check_result_names(s, a, sc);
   s.finish();
   sc.analyses.push_back(a);
 }

@@ -1,5 +1,7 @@
 #include "tsubu/scenario/result_names.hpp"
 
+#include <algorithm>
+
 namespace tsubu {
 
 std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
@@ -14,6 +16,23 @@ std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
     case AnalysisSpec::Kind::profiles: return {};
   }
   return {};
+}
+
+bool has_inflow(const Scenario& sc) {
+  return std::any_of(sc.sources.begin(), sc.sources.end(),
+                     [](const ParticleSource& src) { return src.kind == ParticleSource::Kind::inflow; });
+}
+
+std::vector<std::string> series_columns(const Scenario& sc) {
+  std::vector<std::string> columns = {"time",    "kinetic_translational", "kinetic_rotational", "potential_gravity",
+                                      "elastic", "contacts",              "max_overlap_ratio"};
+  for (std::size_t k = 0; k < sc.walls.size(); ++k)
+    if (!sc.walls[k].motion.empty())
+      for (const char* what : {"_displacement", "_load"}) columns.push_back("wall" + std::to_string(k) + what);
+  if (sc.integrator == Integrator::block_hermite)
+    for (int k = 0; k <= sc.block_steps.levels; ++k) columns.push_back("level" + std::to_string(k));
+  if (has_inflow(sc)) columns.insert(columns.end(), {"particles", "inflow_mass"});
+  return columns;
 }
 
 }  // namespace tsubu

@@ -17,8 +17,17 @@ namespace tsubu {
 //   porosity: <name> (Monte Carlo), <name>_standard_error, <name>_points, <name>_exact,
 //             <name>_grains (centres in the slab);
 //   segregation: <name> (Gamma, the small grains' share of the solid volume), <name>_grains;
-//   kinetic_energy: <name> (J, translational + rotational, all grains), <name>_per_grain;
+//   kinetic_energy: <name> (J, translational + rotational, all grains), <name>_per_grain,
+//                   <name>_speed_rms (m/s, mass-weighted rms speed);
 //   profiles: none (its profiles go to their own files, analysis/profiles.hpp).
 std::vector<std::string> analysis_result_names(const AnalysisSpec& a);
+
+// Whether a [[particles]] source is the inflow.
+bool has_inflow(const Scenario& sc);
+
+// The built-in columns of series.csv, before the analyses' results: time, the energies,
+// contacts and largest overlap; two per moving wall; one per block-step level; with an
+// inflow, the particles and the inflow's mass in the box.
+std::vector<std::string> series_columns(const Scenario& sc);
 
 }  // namespace tsubu

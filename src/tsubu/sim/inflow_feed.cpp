@@ -23,11 +23,20 @@ double InflowFeed::mass_entered(const World& w) const {
   return mass;
 }
 
-std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) const {
-  std::vector<std::pair<std::string, double>> r = inflow_rates(stream_.column());
-  for (auto& count : inflow_counts(stream_.state())) r.push_back(std::move(count));
-  r.emplace_back("inflow_F_measured", w.time > 0 ? mass_entered(w) / w.time : 0.0);
+namespace {
+
+std::vector<std::pair<std::string, double>> results_of(const InflowColumn& c, const InflowStream::State& s,
+                                                       double measured_flux) {
+  std::vector<std::pair<std::string, double>> r = inflow_rates(c);
+  for (auto& count : inflow_counts(s)) r.push_back(std::move(count));
+  r.emplace_back("inflow_F_measured", measured_flux);
   return r;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) const {
+  return results_of(stream_.column(), stream_.state(), w.time > 0 ? mass_entered(w) / w.time : 0.0);
 }
 
 std::string inflow_result_unit(const std::string& name) {

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numeric>
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/format.hpp"
 #include "tsubu/search/pair_search.hpp"
+#include "tsubu/source/size_moments.hpp"
 #include "tsubu/source/sources.hpp"
 
 namespace tsubu {
@@ -97,6 +100,22 @@ void check_tracked(const Scenario& sc, const World& w) {
                            " in the order of [[particles]]");
 }
 
+// The inflow builds its column a slab at a time, before the slab's first grain enters:
+// counted first, as the random source counts its grains, so that a very wide mixture is
+// refused instead of drawing grains for hours.
+void check_inflow_slab(const Scenario& sc, const ParticleSource& src) {
+  const InflowColumn c = inflow_column(sc, src);
+  const double grains = c.slab_grains();
+  if (grains <= static_cast<double>(particle_limit())) return;
+  std::ostringstream s;
+  s << "a slab of the inflow's column (" << format_number(c.slab_height()) << " m high over the domain's base, solid_fraction "
+    << format_number(c.solid_fraction) << ") would hold " << std::setprecision(3) << grains
+    << " grains of this distribution (a mean grain volume of " << mean_grain_volume(c.sizes)
+    << " m^3); this machine holds at most " << particle_limit()
+    << " particles: narrow the distribution (a larger smallest diameter) or lower solid_fraction";
+  fail_at({src.where.file, src.where.line, src.where.key + ".distribution"}, s.str());
+}
+
 }  // namespace
 
 InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
@@ -145,7 +164,10 @@ World build_world(const Scenario& sc) {
   for (const auto& src : sc.sources) {
     const auto first = static_cast<std::int64_t>(grains.size());
     w.source_ids.emplace_back(first, first);
-    if (src.kind == ParticleSource::Kind::inflow) continue;  // its grains arrive during the run
+    if (src.kind == ParticleSource::Kind::inflow) {  // its grains arrive during the run
+      check_inflow_slab(sc, src);
+      continue;
+    }
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
                            : src.kind == ParticleSource::Kind::file    ? read_state_grains(src, sc.materials.size())
                            : src.kind == ParticleSource::Kind::lattice ? lattice_grains(src)
@@ -169,6 +191,16 @@ World build_world(const Scenario& sc) {
         s << "the diameter " << grain.diameter << " m gives a mass of " << mass << " kg and a moment of inertia of "
           << inertia << " kg m^2 (density " << mat.density
           << " kg/m^3); diameters are in metres and must give a finite, non-zero mass and inertia";
+        fail_at(grain.where, s.str());
+      }
+      // Every energy of series.csv sums these: each must be a finite double.
+      const std::size_t i = w.particles.size() - 1;
+      if (!std::isfinite(w.particles.translational_energy(i)) || !std::isfinite(w.particles.rotational_energy(i))) {
+        std::ostringstream s;
+        s << "the velocity " << format_vec(grain.velocity) << " m/s and spin " << format_vec(grain.omega)
+          << " rad/s give a kinetic energy of " << w.particles.translational_energy(i) << " J and a rotational energy of "
+          << w.particles.rotational_energy(i) << " J (diameter " << grain.diameter
+          << " m); they must give finite energies (velocities in m/s, spins in rad/s)";
         fail_at(grain.where, s.str());
       }
       grains.push_back(grain);

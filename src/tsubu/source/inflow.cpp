@@ -42,10 +42,18 @@ double InflowColumn::free_fall_time() const { return gravity > 0 ? std::sqrt(std
 
 double InflowColumn::flux_number() const { return mass_flux() * free_fall_time(); }
 
+namespace {
+
+double grains_per_height(const InflowColumn& c) { return c.solid_fraction * c.area() / mean_grain_volume(c.sizes); }
+
+}  // namespace
+
+double InflowColumn::slab_height() const { return std::max(4 * sizes.largest(), kGrainsPerSlab / grains_per_height(*this)); }
+
+double InflowColumn::slab_grains() const { return (slab_height() + 2 * sizes.largest()) * grains_per_height(*this); }
+
 InflowStream::InflowStream(const InflowColumn& column, std::uint64_t seed)
-    : column_(column), seed_(mix(seed ^ 0x1f10c0de5eed5ULL)), band_(column.sizes.largest()) {
-  const double per_height = column.solid_fraction * column.area() / mean_grain_volume(column.sizes);  // grains per m
-  slab_height_ = std::max(4 * band_, kGrainsPerSlab / per_height);
+    : column_(column), seed_(mix(seed ^ 0x1f10c0de5eed5ULL)), slab_height_(column.slab_height()), band_(column.sizes.largest()) {
   slab_ = slab(0);
 }
 

@@ -47,6 +47,10 @@ struct InflowColumn {
   double grains_per_second() const;  // F / (rho_p pi/6 E[d^3])
   double free_fall_time() const;     // t_f = sqrt(L/g), L = sqrt(area); 0 without gravity
   double flux_number() const;        // Q = F t_f, kg (spec section 2)
+  // The slab height H: at least 4 d_max and about 50 grains; a slab is built with the band
+  // above it, about (H + 2 d_max) phi_0 L^2 / E[pi/6 d^3] grains (slab_grains).
+  double slab_height() const;
+  double slab_grains() const;
 };
 
 // A grain released by the column.

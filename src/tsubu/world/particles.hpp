@@ -26,6 +26,10 @@ struct Particles {
 
   std::size_t size() const { return radius.size(); }
 
+  // The kinetic energies of particle i, J.
+  double translational_energy(std::size_t i) const { return 0.5 * mass[i] * norm2(velocity[i]); }
+  double rotational_energy(std::size_t i) const { return 0.5 * inertia[i] * norm2(omega[i]); }
+
   // f(array) for every per-particle array, always in this order (the checkpoint format's),
   // to move, copy or store particles with all they carry.
   template <class F>
