@@ -689,8 +689,11 @@ void read_analysis(Section s, Scenario& sc) {
       if (d_max == 0 && !s.has("window"))
         s.fail("window", "is required when no source gives a largest diameter (CSV files only): the thickness (m) of the sliding window, about the largest grain's diameter");
       a.surface.window = s.positive("window", d_max);
-      if (!(a.surface.window <= a.surface.top - a.surface.floor))
-        s.fail("window", "is thicker than the domain above the floor: allowed (0, " + num(a.surface.top - a.surface.floor) + "] m" + got(a.surface.window));
+      // The rule bins the height in steps of window/8: at most a million of them.
+      const double height = a.surface.top - a.surface.floor;
+      if (!(a.surface.window <= height && a.surface.window >= height / 125000))
+        s.fail("window", "allowed [" + num(height / 125000) + ", " + num(height) +
+                             "] m: at most the domain's height above the floor, at least 1/125000 of it" + got(a.surface.window));
     }
   } else if (a.kind != Kind::kinetic_energy) {
     const auto z = s.has("z_range")             ? s.reals("z_range")
