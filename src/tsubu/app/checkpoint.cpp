@@ -270,7 +270,9 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   c.output.series_bytes = r.u64();
   c.output.track_bytes = r.u64();
   Particles& p = c.particles;
-  const std::size_t n = r.count(8 * 6 + 24 * 5 + 4 * 2);
+  std::size_t bytes_each = 0;  // of one particle: the element sizes of its arrays
+  p.for_each_array([&](const auto& array) { bytes_each += sizeof(array[0]); });
+  const std::size_t n = r.count(bytes_each);
   p.for_each_array([&](auto& array) { r.array(array, n); });
   r.contacts(c.pair_contacts);
   r.contacts(c.wall_contacts);
