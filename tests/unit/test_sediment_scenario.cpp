@@ -68,7 +68,8 @@ int run_twelve_grains(const std::string& dir, const std::string& stop) {
   std::fputs(text.c_str(), f);
   std::fclose(f);
   const double grain = 2650 * M_PI / 6 * 0.004 * 0.004 * 0.004;
-  const std::string cmd = std::string(TSUBU_BINARY) + " run " + scenario + " --out " + dir + " --set simulation.duration=3" +
+  // --overwrite: a folder left by an earlier run whose process had the same pid is replaced.
+  const std::string cmd = std::string(TSUBU_BINARY) + " run " + scenario + " --out " + dir + " --overwrite --set simulation.duration=3" +
                           " --set particles.0.mass_limit=" + std::to_string(12.5 * grain) + " > " + dir + ".log 2>&1";
   return std::system(cmd.c_str());
 }
