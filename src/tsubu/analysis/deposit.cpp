@@ -34,10 +34,10 @@ double surface_height(const Packing& p, const SurfaceRule& rule) {
   const double step = rule.window / steps;
   const int bins = std::max(steps, static_cast<int>(std::ceil((rule.top - rule.floor) / step)));
   std::vector<double> solid(static_cast<std::size_t>(bins), 0.0);  // exact volume in each bin
+  // Bin indices clamped as doubles first: a grain far outside the box casts no huge value.
+  auto bin = [&](double height) { return static_cast<int>(std::clamp(std::floor((height - rule.floor) / step), -1.0, double(bins))); };
   for (std::size_t i = 0; i < p.position.size(); ++i) {
     const double z = p.position[i].z, r = p.radius[i];
-    // Bin indices clamped as doubles first: a grain far outside the box casts no huge value.
-    auto bin = [&](double height) { return static_cast<int>(std::clamp(std::floor((height - rule.floor) / step), -1.0, double(bins))); };
     const int first = std::max(0, bin(z - r)), last = std::min(bins - 1, bin(z + r));
     for (int b = first; b <= last; ++b)
       solid[static_cast<std::size_t>(b)] += sphere_slab_volume(z, r, rule.floor + b * step, rule.floor + (b + 1) * step);

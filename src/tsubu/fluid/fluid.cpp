@@ -177,7 +177,11 @@ double richardson_zaki_exponent(double re) {
   return 2.39;
 }
 
-double drag_coefficient(double re, bool capped) { return re_times_cd(re, capped ? Fluid::drag_cap_re : INFINITY) / re; }
+double drag_coefficient(double re, bool capped) {
+  Fluid f;
+  f.drag_cap = capped;
+  return re_times_cd(re, f.cap_re()) / re;
+}
 
 double loth_lift_coefficient(double re, double rr) { return loth(re, rr); }
 

@@ -641,7 +641,7 @@ void check_result_names(const Section& s, const AnalysisSpec& a, const Scenario&
   for (const std::string& name : mine) {
     if (std::find(columns.begin(), columns.end(), name) != columns.end())
       s.fail("name", these + name + " is a built-in column of series.csv (" + listed(columns) + ")" + allowed);
-    if (has_inflow(sc) && name.starts_with("inflow_"))
+    if (inflow_source(sc) && name.starts_with("inflow_"))
       s.fail("name", these + name + " begins with inflow_, the prefix of the inflow's results in run.json (inflow_F, "
                      "inflow_Q, inflow_released, ...: docs/sedimentation.md)" + allowed);
     for (std::size_t k = 0; k < sc.analyses.size(); ++k) {
@@ -756,11 +756,10 @@ void read_stop(Section s, Scenario& sc) {
   if (!(st.after >= 0)) s.fail("after", "must be >= 0 (s; the condition is not checked before this time)" + got(st.after));
   st.after_inflow = s.flag("after_inflow", false);
   if (st.after_inflow) {
-    const auto inflow = std::find_if(sc.sources.begin(), sc.sources.end(),
-                                     [](const ParticleSource& src) { return src.kind == ParticleSource::Kind::inflow; });
-    if (inflow == sc.sources.end() || !(inflow->mass_limit > 0))
+    const ParticleSource* inflow = inflow_source(sc);
+    if (!inflow || !(inflow->mass_limit > 0))
       s.fail("after_inflow", "needs a [[particles]] source = \"inflow\" with a mass_limit (kg): the condition is checked once it has "
-                             "released its last grain" + std::string(inflow == sc.sources.end() ? "; the scenario has no inflow" : "; its inflow has no mass_limit"));
+                             "released its last grain" + std::string(!inflow ? "; the scenario has no inflow" : "; its inflow has no mass_limit"));
   }
   s.finish();
   sc.stops.push_back(st);

@@ -1,6 +1,5 @@
 #include "tsubu/scenario/result_names.hpp"
 
-#include <algorithm>
 
 namespace tsubu {
 
@@ -18,9 +17,10 @@ std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
   return {};
 }
 
-bool has_inflow(const Scenario& sc) {
-  return std::any_of(sc.sources.begin(), sc.sources.end(),
-                     [](const ParticleSource& src) { return src.kind == ParticleSource::Kind::inflow; });
+const ParticleSource* inflow_source(const Scenario& sc) {
+  for (const ParticleSource& src : sc.sources)
+    if (src.kind == ParticleSource::Kind::inflow) return &src;
+  return nullptr;
 }
 
 std::vector<std::string> series_columns(const Scenario& sc) {
@@ -31,7 +31,7 @@ std::vector<std::string> series_columns(const Scenario& sc) {
       for (const char* what : {"_displacement", "_load"}) columns.push_back("wall" + std::to_string(k) + what);
   if (sc.integrator == Integrator::block_hermite)
     for (int k = 0; k <= sc.block_steps.levels; ++k) columns.push_back("level" + std::to_string(k));
-  if (has_inflow(sc)) columns.insert(columns.end(), {"particles", "inflow_mass"});
+  if (inflow_source(sc)) columns.insert(columns.end(), {"particles", "inflow_mass"});
   return columns;
 }
 

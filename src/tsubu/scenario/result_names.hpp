@@ -22,8 +22,8 @@ namespace tsubu {
 //   profiles: none (its profiles go to their own files, analysis/profiles.hpp).
 std::vector<std::string> analysis_result_names(const AnalysisSpec& a);
 
-// Whether a [[particles]] source is the inflow.
-bool has_inflow(const Scenario& sc);
+// The scenario's inflow source, if it has one (at most one); nullptr without.
+const ParticleSource* inflow_source(const Scenario& sc);
 
 // The built-in columns of series.csv, before the analyses' results: time, the energies,
 // contacts and largest overlap; two per moving wall; one per block-step level; with an

@@ -135,12 +135,6 @@ InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
   return c;
 }
 
-const ParticleSource* inflow_source(const Scenario& sc) {
-  for (const ParticleSource& src : sc.sources)
-    if (src.kind == ParticleSource::Kind::inflow) return &src;
-  return nullptr;
-}
-
 World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
