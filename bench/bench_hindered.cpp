@@ -13,7 +13,7 @@
 #include <memory>
 #include <string>
 
-#include "tsubu/integrate/integrators.hpp"
+#include "tsubu/sim/simulation.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/source/build_world.hpp"
 
@@ -21,7 +21,7 @@ namespace tsubu {
 namespace {
 
 // A fresh suspension of one size (mixture = 0) or of the Talbot mixture (mixture = 1).
-World suspension(bool hindered, int mixture) {
+Simulation suspension(bool hindered, int mixture) {
   const double side = mixture ? 0.06 : 0.1;  // about 5000 grains either way
   const std::string dist = mixture ? "{ type = \"talbot\", exponent = 0, spread = 2.0, d_max = 0.006 }"
                                    : "{ type = \"single\", diameter = 0.005 }";
@@ -38,16 +38,16 @@ World suspension(bool hindered, int mixture) {
       << "[[particles]]\nsource = \"random\"\nmaterial = \"quartz\"\nlower = [0, 0, 0]\nupper = [" << side << ", "
       << side << ", " << side << "]\nsolid_fraction = 0.3\ndistribution = " << dist << "\n";
   }
-  World w = build_world(load_scenario(path.string()));
+  const Scenario sc = load_scenario(path.string());
   std::filesystem::remove(path);
-  return w;
+  return Simulation(build_world(sc), build_model(sc), Integrator::velocity_verlet, {});
 }
 
 void Hindered(benchmark::State& state) {
-  World w = suspension(state.range(0) != 0, static_cast<int>(state.range(1)));
-  ForceField forces;
-  forces.compute(w);
-  for (auto _ : state) velocity_verlet_step(w, forces);
+  Simulation sim = suspension(state.range(0) != 0, static_cast<int>(state.range(1)));
+  sim.start();
+  for (auto _ : state) sim.step();
+  const World& w = sim.world();
   state.counters["particle_steps_per_s"] =
       benchmark::Counter(static_cast<double>(state.iterations() * w.particles.size()), benchmark::Counter::kIsRate);
   state.counters["particles"] = static_cast<double>(w.particles.size());

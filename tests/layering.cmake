@@ -5,16 +5,7 @@
 cmake_minimum_required(VERSION 3.25)
 
 # The layers, lowest first. A file right under src/tsubu/ (version.hpp) counts as core.
-set(layers core world search fluid contact integrate io scenario source analysis sim app)
-
-# Includes that still run up, until the World is split into its state and the model beside
-# it: the World holds the laws, fluid and search method beside its state. No other may
-# be added; one that is gone must leave this list.
-set(known_exceptions
-    "src/tsubu/world/world.hpp -> tsubu/contact/contact_list.hpp"
-    "src/tsubu/world/world.hpp -> tsubu/contact/law.hpp"
-    "src/tsubu/world/world.hpp -> tsubu/fluid/fluid.hpp"
-    "src/tsubu/world/world.hpp -> tsubu/search/pair_search.hpp")
+set(layers core world search fluid contact model forces integrate io scenario source analysis sim app)
 
 # The layer index of a path under src/ ("tsubu/<folder>/..."), or -1 for none of them.
 function(layer_of path out)
@@ -32,7 +23,6 @@ if(NOT files)
   message(FATAL_ERROR "no sources under ${SOURCE_DIR}/src (pass -DSOURCE_DIR=<the repository>)")
 endif()
 set(failures "")
-set(found_exceptions "")
 foreach(file IN LISTS files)
   layer_of("${file}" own)
   if(own EQUAL -1)
@@ -47,23 +37,12 @@ foreach(file IN LISTS files)
     if(theirs EQUAL -1)
       list(APPEND failures "${include}: the header is in no layer")
     elseif(theirs GREATER own)
-      list(FIND known_exceptions "${include}" known)
-      if(known EQUAL -1)
-        list(GET layers ${own} low)
-        list(GET layers ${theirs} high)
-        list(APPEND failures "${include}: ${low} may not include ${high}, a higher layer")
-      else()
-        list(APPEND found_exceptions "${include}")
-      endif()
+      list(GET layers ${own} low)
+      list(GET layers ${theirs} high)
+      list(APPEND failures "${include}: ${low} may not include ${high}, a higher layer")
     endif()
   endforeach()
 endforeach()
-foreach(include IN LISTS known_exceptions)
-  if(NOT include IN_LIST found_exceptions)
-    list(APPEND failures "${include} is listed as a known exception but is gone: take it off the list")
-  endif()
-endforeach()
-
 list(LENGTH files count)
 if(failures)
   list(JOIN failures "\n  " text)

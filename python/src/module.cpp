@@ -147,7 +147,7 @@ std::int64_t step_of_time(const Session& s, double t) {
 
 py::dict energies_of(PySimulation& self) {
   Session& s = self.idle();
-  const Energies e = energies(s.world());
+  const Energies e = energies(s.world(), s.model().gravity);
   py::dict d;
   d["kinetic_translational"] = e.kinetic_translational;
   d["kinetic_rotational"] = e.kinetic_rotational;

@@ -12,7 +12,7 @@ namespace tsubu::python {
 Session::Session(Scenario scenario, Simulation sim) : scenario_(std::move(scenario)), sim_(std::move(sim)) {}
 
 Session::Session(Scenario scenario)
-    : scenario_(std::move(scenario)), sim_(build_world(scenario_), scenario_.integrator, scenario_.block_steps) {
+    : scenario_(std::move(scenario)), sim_(build_world(scenario_), build_model(scenario_), scenario_.integrator, scenario_.block_steps) {
   if (const ParticleSource* src = inflow_source(scenario_))
     inflow_.emplace(scenario_, *src, static_cast<std::int64_t>(sim_.world().particles.size()));
   sim_.start();

@@ -40,6 +40,7 @@ class Session {
   const Simulation& simulation() const { return sim_; }
   World& world() { return sim_.world(); }
   const World& world() const { return sim_.world(); }
+  const Model& model() const { return sim_.model(); }
   // The particle count can change between steps (grains enter): arrays are copied, not viewed.
   bool has_inflow() const { return inflow_.has_value(); }
   // Whether the force field's per-contact results belong to the current contact lists: not

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -16,10 +16,14 @@
 
 namespace tsubu::testing {
 
+inline Scenario test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}) {
+  return load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
+}
+
 inline World run_test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}, int threads = 1) {
-  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
+  const Scenario sc = test_scenario(name, overrides);
   omp_set_num_threads(threads);
-  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);  // any integrator
+  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // any integrator
   sim.start();
   sim.advance_to(std::llround(sc.duration / sc.dt));
   omp_set_num_threads(1);

@@ -15,6 +15,7 @@ namespace {
 
 using testing::make_world;
 using testing::spec_of;
+using testing::Bed;
 
 const Material kQuartz{"quartz", 2650, 1e9, 0.17};
 
@@ -25,8 +26,8 @@ BlockStepRules one_level(int level) {
   return r;
 }
 
-Simulation run(World w, const BlockStepRules& rules, std::int64_t steps) {
-  Simulation sim(std::move(w), Integrator::block_hermite, rules);
+Simulation run(Bed b, const BlockStepRules& rules, std::int64_t steps) {
+  Simulation sim(std::move(b.world), std::move(b.model), Integrator::block_hermite, rules);
   sim.start();
   sim.advance_to(steps);
   return sim;
@@ -35,9 +36,10 @@ Simulation run(World w, const BlockStepRules& rules, std::int64_t steps) {
 TEST(BlockHermite, FreeParabolaIsExact) {
   // dt = 0.5 ms: the grain moves at most 0.8 mm in a step, within the 2 mm its neighbour list
   // reaches, so that no rule but the force's smoothness limits the step.
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 5e-4, {0, 0, -9.81});
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 5e-4, {0, 0, -9.81});
+  auto& [w, model] = b;
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 1}, {0.3, -0.2, 1.5});
-  const Simulation sim = run(std::move(w), {}, 100);
+  const Simulation sim = run(std::move(b), {}, 100);
   const double t = 0.05;
   const Vec3 x = sim.world().particles.position[0], v = sim.world().particles.velocity[0];
   EXPECT_NEAR(x.x, 0.3 * t, 1e-14);
@@ -49,38 +51,40 @@ TEST(BlockHermite, FreeParabolaIsExact) {
 
 // A 1 mm quartz grain settling in water (drag, buoyancy, added mass), launched at
 // `speed` downwards.
-World settling_grain(double dt, double speed) {
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), dt, {0, 0, -9.81});
-  w.fluid.enabled = true;
-  w.fluid.density = 1000;
-  w.fluid.viscosity = 1e-6;
+Bed settling_grain(double dt, double speed) {
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), dt, {0, 0, -9.81});
+  auto& [w, model] = b;
+  model.fluid.enabled = true;
+  model.fluid.density = 1000;
+  model.fluid.viscosity = 1e-6;
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0}, {0, 0, -speed});
-  return w;
+  return b;
 }
-World settling_moving(double dt) { return settling_grain(dt, 0.05); }
-World settling_from_rest(double dt) { return settling_grain(dt, 0); }
+Bed settling_moving(double dt) { return settling_grain(dt, 0.05); }
+Bed settling_from_rest(double dt) { return settling_grain(dt, 0); }
 
 // A grain resting on a linear-spring floor (e = 1, no friction), started off its balance:
 // it oscillates about delta_eq = m g / k without leaving the floor, delta(t) = delta_eq +
 // A cos(omega t), omega = sqrt(k/m).
-World oscillating_on_floor(double dt) {
+Bed oscillating_on_floor(double dt) {
   ContactSpec spec = spec_of("linear", "none", 1.0);
   spec.stiffness = 50;
-  World w = make_world(kQuartz, spec, dt, {0, 0, -9.81});
+  Bed b = make_world(kQuartz, spec, dt, {0, 0, -9.81});
+  auto& [w, model] = b;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0.5e-3}, {});
   const double m = w.particles.mass[0], delta_eq = m * 9.81 / 50;
   w.particles.position[0].z = 0.5e-3 - delta_eq - 0.5 * delta_eq;  // A = delta_eq / 2
-  return w;
+  return b;
 }
 
-double error_at(World (*make)(double), double dt, std::int64_t steps, const Vec3& exact_x, double scale) {
+double error_at(Bed (*make)(double), double dt, std::int64_t steps, const Vec3& exact_x, double scale) {
   const Simulation sim = run(make(dt), one_level(0), steps);
   return norm(sim.world().particles.position[0] - exact_x) / scale;
 }
 
 // Error ratios per halving of a shared step, position after t.
-std::vector<double> ratios(World (*make)(double), double t, std::vector<int> steps, int reference) {
+std::vector<double> ratios(Bed (*make)(double), double t, std::vector<int> steps, int reference) {
   const Vec3 exact = run(make(t / reference), one_level(0), reference).world().particles.position[0];
   std::vector<double> out;
   double last = 0;
@@ -111,7 +115,7 @@ TEST(BlockHermite, FromRestTheDragLawLimitsTheOrder) {
 }
 
 TEST(BlockHermite, FourthOrderOnAHarmonicContact) {
-  World w0 = oscillating_on_floor(1);
+  const World w0 = oscillating_on_floor(1).world;
   const double m = w0.particles.mass[0], omega = std::sqrt(50 / m), delta_eq = m * 9.81 / 50;
   const double t = 1.3 * 2 * M_PI / omega;
   const Vec3 exact{0, 0, 0.5e-3 - delta_eq - 0.5 * delta_eq * std::cos(omega * t)};
@@ -128,14 +132,15 @@ TEST(BlockHermite, FourthOrderOnAHarmonicContact) {
 
 // Four grains in a heap on a floor, with friction and damping: every particle forced onto
 // level 2 of dt is the same run as level 0 of dt/4 (to the round-off of dt/4).
-World heap(double dt) {
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), dt, {0, 0, -9.81});
+Bed heap(double dt) {
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), dt, {0, 0, -9.81});
+  auto& [w, model] = b;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0.499e-3}, {});
   w.particles.add(1, 0, 1e-3, 2650, {0.9995e-3, 0, 0.4995e-3}, {0.01, 0, 0});
   w.particles.add(2, 0, 1e-3, 2650, {0.5e-3, 0.8e-3, 0.4999e-3}, {});
   w.particles.add(3, 0, 1e-3, 2650, {0.45e-3, 0.3e-3, 1.3e-3}, {0, 0, -0.05});
-  return w;
+  return b;
 }
 
 TEST(BlockHermite, OneForcedLevelEqualsASharedStep) {
@@ -159,13 +164,14 @@ TEST(BlockHermite, DashpotsAreCorrectedToTheCorrectedVelocities) {
   // ForceField::compute_active, which bounds lambda) the motion must die out.
   ContactSpec spec = spec_of("hertz_sediment", "mindlin", 0.5, 0.5);
   spec.alpha = 0.2;
-  World w = make_world(kQuartz, spec, 1e-6 * 16, {0, 0, -9.81});
-  w.fluid.enabled = true, w.fluid.density = 1000, w.fluid.viscosity = 1e-6;
+  Bed b = make_world(kQuartz, spec, 1e-6 * 16, {0, 0, -9.81});
+  auto& [w, model] = b;
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 0.5e-3, 2650, {0, 0, 0.2499e-3}, {0.01, 0, 0});
   w.particles.add(1, 0, 0.5e-3, 2650, {0.4999e-3, 0, 0.2499e-3}, {});
   const double energy0 = 0.5 * w.particles.mass[0] * 1e-4;
-  const Simulation sim = run(std::move(w), one_level(4), 600);
+  const Simulation sim = run(std::move(b), one_level(4), 600);
   for (std::size_t i = 0; i < 2; ++i) {
     const Particles& p = sim.world().particles;
     const double energy = 0.5 * p.mass[i] * norm2(p.velocity[i]) + 0.5 * p.inertia[i] * norm2(p.omega[i]);
@@ -180,14 +186,15 @@ TEST(BlockHermite, AContactBetweenGrainsInTouchDoesNotTakeTheEventStep) {
   // H's dashpot), set the pair's step: level 6 (dt/64 = 156 ns) or coarser, and no
   // evaluation happens on level 8 or finer.
   ContactSpec spec = spec_of("hertz_sediment", "mindlin", 0.5, 0.5);
-  World w = make_world(kQuartz, spec, 1e-5, {0, 0, -9.81});
-  w.fluid.enabled = true, w.fluid.density = 1000, w.fluid.viscosity = 1e-6;
+  Bed b = make_world(kQuartz, spec, 1e-5, {0, 0, -9.81});
+  auto& [w, model] = b;
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 0.5e-3, 2650, {0, 0, 0.24999e-3}, {0.01, 0, 0});
   w.particles.add(1, 0, 0.5e-3, 2650, {0.50002e-3, 0, 0.24999e-3}, {});
   BlockStepRules rules;
   rules.levels = 20;
-  Simulation sim(std::move(w), Integrator::block_hermite, rules);
+  Simulation sim(std::move(w), std::move(model), Integrator::block_hermite, rules);
   sim.start();
   int finest = 0, touching_steps = 0;
   for (std::int64_t step = 1; step <= 20; ++step) {
@@ -213,14 +220,15 @@ TEST(BlockHermite, AGrainOnALongStepIsWokenBeforeAFastNeighbourReachesIt) {
   // contact begins: if the contact began inside its 4 ms step, the corrector would spread
   // the onset over that step. Checked by the collision's outcome: momentum kept, the big
   // grain no faster than an elastic collision makes it (2 m_s / (m_s + m_b) 0.5 m/s).
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 4e-3);
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 4e-3);
+  auto& [w, model] = b;
   const double speed = 0.5, onset = 4e-3 - 1e-9;
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0}, {});
   w.particles.add(1, 0, 0.5e-3, 2650, {-1.5e-3 - speed * onset, 0, 0}, {speed, 0, 0});
   const double m_big = w.particles.mass[0], m_small = w.particles.mass[1];
   BlockStepRules rules;
   rules.levels = 24;
-  Simulation sim = run(std::move(w), rules, 3);
+  Simulation sim = run(std::move(b), rules, 3);
   const Particles& p = sim.world().particles;
   ASSERT_GT(sim.block()->stats().wakes, 0u);
   const Vec3 momentum = m_big * p.velocity[0] + m_small * p.velocity[1];
@@ -238,11 +246,12 @@ TEST(BlockHermite, AGrainAddedCloseToAnotherTakesItsFirstStepFromTheGap) {
   // step chosen from the fluid alone both steps were 1 ms and the contact began inside them
   // (the poly example: 117 % overlap, the small grain flung off at 2 m/s; here the small
   // grain was thrown down at 6.4 m/s).
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
-  w.fluid.enabled = true, w.fluid.density = 1000, w.fluid.viscosity = 1e-6;
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+  auto& [w, model] = b;
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
   w.particles.add(0, 0, 0.01, 2650, {0.02, 0.02, 0.005}, {});  // a grain elsewhere: the world is not empty
   BlockStepRules rules;
-  Simulation sim(std::move(w), Integrator::block_hermite, rules);
+  Simulation sim(std::move(w), std::move(model), Integrator::block_hermite, rules);
   sim.start();
   sim.advance_to(1);
   Particles& p = sim.world().particles;
@@ -263,15 +272,16 @@ TEST(BlockHermite, AGrainAddedCloseToAnotherTakesItsFirstStepFromTheGap) {
 TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
   // A grain falling through water far from a resting pair on the floor: the free grain
   // takes far longer steps than the pair in contact.
-  World w = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+  auto& [w, model] = b;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0.499e-3}, {});
   w.particles.add(1, 0, 1e-3, 2650, {0.9995e-3, 0, 0.4995e-3}, {});
   w.particles.add(2, 0, 1e-3, 2650, {5e-3, 5e-3, 8e-3}, {});
-  w.fluid.enabled = true, w.fluid.density = 1000, w.fluid.viscosity = 1e-6;
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
   BlockStepRules rules;
   rules.levels = 20;
-  Simulation sim = run(std::move(w), rules, 4);
+  Simulation sim = run(std::move(b), rules, 4);
   // The pair's initial overlaps push it apart; after 4 steps grain 1 is on the floor (grain 0
   // may be lifted off it for a moment, depending on the friction law's transient).
   const HermiteState& s = sim.block()->state();

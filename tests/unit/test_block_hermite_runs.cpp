@@ -22,13 +22,13 @@ using testing::spec_of;
 // so that velocity Verlet at the block steps' number of evaluations still resolves contacts.
 constexpr double kDrop = 1e-5, kRadius = 0.5e-3;
 
-World bouncing_grain(double dt, const char* normal) {
+Simulation bouncing_grain(double dt, const char* normal, Integrator integrator) {
   ContactSpec spec = spec_of(normal, "none", 1.0);
   spec.stiffness = 50;
-  World w = make_world({"soft", 2650, 2.5e6, 0.17}, spec, dt, {0, 0, -9.81});
+  auto [w, model] = make_world({"soft", 2650, 2.5e6, 0.17}, spec, dt, {0, 0, -9.81});
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 2 * kRadius, 2650, {0, 0, kRadius + kDrop}, {});
-  return w;
+  return Simulation(std::move(w), std::move(model), integrator, BlockStepRules{});
 }
 
 struct Bounces {
@@ -40,7 +40,7 @@ struct Bounces {
 // Runs until the grain has passed `n` apexes (seen at the ends of dt, which a contact may fall
 // between); the energy is read there, out of contact: kinetic and gravitational only.
 Bounces bounce(Integrator integrator, double dt, const char* normal, int n) {
-  Simulation sim(bouncing_grain(dt, normal), integrator, BlockStepRules{});
+  Simulation sim = bouncing_grain(dt, normal, integrator);
   sim.start();
   const Particles& p = sim.world().particles;
   auto energy = [&] { return p.mass[0] * (0.5 * norm2(p.velocity[0]) + 9.81 * p.position[0].z); };

@@ -23,8 +23,8 @@ struct ImpactRecord {
 // Steps of dt until the pair (or the sphere and the wall) has touched and separated again,
 // observed at the ends of dt (where block steps have every particle at the same time).
 // The restitution is the ratio of the normal relative speeds after/before.
-ImpactRecord record_impact(World world, bool wall, Integrator integrator) {
-  Simulation sim(std::move(world), integrator, BlockStepRules{});  // the default step rules
+ImpactRecord record_impact(World world, Model model, bool wall, Integrator integrator) {
+  Simulation sim(std::move(world), std::move(model), integrator, BlockStepRules{});  // the default step rules
   sim.start();
   const World& w = sim.world();
   const ForceField& f = sim.forces();
@@ -54,19 +54,19 @@ ImpactRecord record_impact(World world, bool wall, Integrator integrator) {
 
 ImpactRecord head_on(const Material& m, double radius, double speed, const ContactSpec& spec, double dt,
                      Integrator integrator = Integrator::velocity_verlet) {
-  World w = make_world(m, spec, dt);
+  auto [w, model] = make_world(m, spec, dt);
   w.particles.add(0, 0, 2 * radius, m.density, {-radius - speed * 2 * dt, 0, 0}, {speed, 0, 0});
   w.particles.add(1, 0, 2 * radius, m.density, {radius + speed * 2 * dt, 0, 0}, {-speed, 0, 0});
-  return record_impact(std::move(w), false, integrator);
+  return record_impact(std::move(w), std::move(model), false, integrator);
 }
 
 ImpactRecord on_rigid_plane(const Material& m, double radius, double speed, const ContactSpec& spec, double dt,
                             Integrator integrator = Integrator::velocity_verlet) {
-  World w = make_world(m, spec, dt);
-  testing::add_wall_material(w, {"rigid", 1, 1e30, 0.0}, spec);
+  auto [w, model] = make_world(m, spec, dt);
+  testing::add_wall_material(model, {"rigid", 1, 1e30, 0.0}, spec);
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 1});
   w.particles.add(0, 0, 2 * radius, m.density, {0, 0, radius + speed * 2 * dt}, {0, 0, -speed});
-  return record_impact(std::move(w), true, integrator);
+  return record_impact(std::move(w), std::move(model), true, integrator);
 }
 
 // Every test runs with velocity Verlet at its dt, and with block-step Hermite (the default

@@ -28,8 +28,9 @@ std::map<IdPair, Contact> pairs_by_id(const World& w) {
 
 // A bed being poured (velocity Verlet, friction 0.5), stopped mid-run while grains land on
 // it; run once for all tests here.
+const std::vector<std::string> kPoured = {"simulation.duration=0.1", "search.sort_every=0"};
 const World& poured_bed() {
-  static const World bed = testing::run_test_scenario("settle_mono.toml", {"simulation.duration=0.1", "search.sort_every=0"});
+  static const World bed = testing::run_test_scenario("settle_mono.toml", kPoured);
   return bed;
 }
 
@@ -44,7 +45,7 @@ double largest_shift(const World& a, const World& b) {
 // Continues a stopped run for `steps` steps (the first kicks with the stored forces, as a
 // resume does; the lists are rebuilt from the carried contacts).
 World continued(World w, std::int64_t steps) {
-  Simulation sim(std::move(w), Integrator::velocity_verlet, {});
+  Simulation sim(std::move(w), build_model(testing::test_scenario("settle_mono.toml", kPoured)), Integrator::velocity_verlet, {});
   sim.advance_to(sim.world().step + steps);
   return std::move(sim.world());
 }
@@ -117,12 +118,13 @@ TEST(ContactList, ARunSortedMidwayContinuesTheUnsortedRun) {
 
 // Two grains pressed together, the second sliding and rolling over the first (friction
 // 0.5), with ids in or against the index order.
-World sliding_pair(std::int64_t first_id, std::int64_t second_id, double dt) {
-  World w = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), dt);
+testing::Bed sliding_pair(std::int64_t first_id, std::int64_t second_id, double dt) {
+  testing::Bed bed = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), dt);
+  World& w = bed.world;
   w.particles.add(first_id, 0, 0.01, 2500, {0, 0, 0}, {});
   w.particles.add(second_id, 0, 0.01, 2500, {0.009999, 0, 0}, {-0.05, 0.05, 0.02});
   w.particles.omega[1] = {3, -1, 2};
-  return w;
+  return bed;
 }
 
 // Ids against the index order change where a history is stored, not what the laws compute:
@@ -134,7 +136,8 @@ TEST(ContactList, IdsAgainstTheIndexOrderGiveTheSameBits) {
     const std::int64_t steps = integrator == Integrator::block_hermite ? 10 : 1000;
     std::vector<World> end;
     for (const auto& [a, b] : {std::pair{0, 1}, std::pair{1, 0}}) {
-      Simulation sim(sliding_pair(a, b, dt), integrator, {});
+      testing::Bed pair = sliding_pair(a, b, dt);
+      Simulation sim(std::move(pair.world), std::move(pair.model), integrator, {});
       sim.start();
       sim.advance_to(steps);
       end.push_back(std::move(sim.world()));

@@ -26,10 +26,10 @@ std::string failure_of(const std::function<void()>& f) {
 }
 
 TEST(Diagnostics, AFailureBeforeTheFirstStepBlamesTheInputNotDt) {
-  World w = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-6);
+  auto [w, model] = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-6);
   w.particles.add(0, 0, 0.002, kGlass.density, {0, 0, 0}, {});
   w.particles.add(1, 0, 0.002, kGlass.density, {0.001, 0, 0}, {});  // half a diameter deep
-  ForceField f;
+  ForceField f(model);
   const std::string why = failure_of([&] { f.compute(w); });
   EXPECT_NE(why.find("step 0,"), std::string::npos) << why;
   EXPECT_NE(why.find("the initial state, before any time step"), std::string::npos) << why;
@@ -38,11 +38,11 @@ TEST(Diagnostics, AFailureBeforeTheFirstStepBlamesTheInputNotDt) {
 
 // energy_conserving_2005's range is named only when that model made the force non-finite.
 TEST(Diagnostics, ANonFiniteForceNamesEnergyConserving2005OnlyWhenInUse) {
-  World w = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-6);
+  auto [w, model] = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-6);
   w.particles.add(0, 0, 0.002, kGlass.density, {0, 0, 0}, {std::nan(""), 0, 0});
   w.particles.add(1, 0, 0.002, kGlass.density, {0.00199, 0, 0}, {});
   w.step = 7;
-  ForceField f;
+  ForceField f(model);
   const std::string why = failure_of([&] { f.compute(w); });
   EXPECT_NE(why.find("(a non-finite force)"), std::string::npos) << why;
   EXPECT_NE(why.find("hertz_tsuji"), std::string::npos) << why;
@@ -52,9 +52,9 @@ TEST(Diagnostics, ANonFiniteForceNamesEnergyConserving2005OnlyWhenInUse) {
 // The drift that carries a particle out belongs to the step under way (it named the one
 // before).
 TEST(Diagnostics, LeavingTheDomainNamesTheStepItHappenedIn) {
-  World w = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-3);
+  auto [w, model] = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-3);
   w.particles.add(0, 0, 0.002, kGlass.density, {9.99, 0, 0}, {100, 0, 0});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   const std::string why = failure_of([&] { velocity_verlet_step(w, f); });
   EXPECT_NE(why.find("step 1, t = 0.001 s: particle id 0 left the domain"), std::string::npos) << why;

@@ -26,16 +26,16 @@ double hertz_contact_time(double m, double r, double e_star, double v) {
 // bounce takes few steps outside the contact.
 BounceResult bounce(double dt, int n_bounces) {
   const Material glass{"glass", 2500, 1e9, 0.25};
-  World w = testing::make_world(glass, testing::spec_of("hertz_tsuji", "none", 1.0), dt, {0, 0, -9.81});
+  auto [w, model] = testing::make_world(glass, testing::spec_of("hertz_tsuji", "none", 1.0), dt, {0, 0, -9.81});
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0});
   const double d = 2e-3, r = 1e-3, h = 1e-5;
   w.particles.add(0, 0, d, glass.density, {0, 0, r + h}, {});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   const Particles& p = w.particles;
   const double m = p.mass[0], e0 = m * 9.81 * h;
   auto energy = [&] {
-    const Energies e = energies(w);
+    const Energies e = energies(w, model.gravity);
     return e.kinetic_translational + e.kinetic_rotational + e.potential_gravity - m * 9.81 * r + f.totals(w).elastic_energy;
   };
   BounceResult out;

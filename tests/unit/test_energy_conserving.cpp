@@ -139,8 +139,8 @@ struct EngineRun {
   Vec3 momentum_change;
 };
 
-EngineRun engine_collision(World& w, bool wall) {
-  ForceField f;
+EngineRun engine_collision(World& w, const Model& model, bool wall) {
+  ForceField f(model);
   f.compute(w);
   const Particles& p = w.particles;
   auto kinetic = [&] {
@@ -184,10 +184,10 @@ TEST(ModelPEngine, SphereOnWall) {
   ContactSpec spec = testing::spec_of("energy_conserving", "none", 0.7);
   const double d = 0.01, mass = 1000 * M_PI / 6 * 1e-6, dt = 1e-5;
   spec.stiffness = 0.01 * mass / (dt * dt);  // a = 0.01
-  World w = testing::make_world(m, spec, dt);
+  auto [w, model] = testing::make_world(m, spec, dt);
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0});
   w.particles.add(0, 0, d, m.density, {0, 0, 0.5 * d + 0.37 * 1e-5}, {0.3, 0.1, -1.0});  // touch 37 % into a step
-  const EngineRun r = engine_collision(w, true);
+  const EngineRun r = engine_collision(w, model, true);
   EXPECT_NEAR(r.energy_ratio, 0.49, 1e-12);
   EXPECT_EQ(r.contact_steps, 3);
 }
@@ -196,12 +196,12 @@ TEST(ModelPEngine, TwoUnequalSpheres) {
   const Material m{"m", 1000, 1e9, 0.3};
   ContactSpec spec = testing::spec_of("energy_conserving", "none", 0.7);
   const double dt = 1e-5;
-  World w = testing::make_world(m, spec, dt);
+  auto [w, model] = testing::make_world(m, spec, dt);
   w.particles.add(0, 0, 0.01, m.density, {0, 0, 0}, {1.0, 0, 0});
   w.particles.add(1, 0, 0.02, m.density, {0.015 + 0.61 * 1.5e-5, 0.0, 0}, {-0.5, 0, 0});  // touch 61 % into a step
   const double m_eff = w.particles.mass[0] * w.particles.mass[1] / (w.particles.mass[0] + w.particles.mass[1]);
-  w.laws.laws[0] = make_pair_law([&] { spec.stiffness = 0.05 * m_eff / (dt * dt); return spec; }(), m, m);  // a = 0.05
-  const EngineRun r = engine_collision(w, false);
+  model.laws.laws[0] = make_pair_law([&] { spec.stiffness = 0.05 * m_eff / (dt * dt); return spec; }(), m, m);  // a = 0.05
+  const EngineRun r = engine_collision(w, model, false);
   EXPECT_NEAR(r.energy_ratio, 0.49, 1e-12);
   EXPECT_EQ(r.contact_steps, 3);
   EXPECT_LT(norm(r.momentum_change), 1e-15);
@@ -214,10 +214,10 @@ TEST(ModelFEngine, OutOfRangeStopsWithADiagnostic) {
   ContactSpec spec = testing::spec_of("energy_conserving_2005", "none", 0.1);
   const double d = 0.01, mass = 1000 * M_PI / 6 * 1e-6, dt = 1e-5;
   spec.stiffness = 0.9 * mass / (dt * dt);
-  World w = testing::make_world(m, spec, dt);
+  auto [w, model] = testing::make_world(m, spec, dt);
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0});
   w.particles.add(0, 0, d, m.density, {0, 0, 0.5 * d + 0.05 * 1e-5}, {0, 0, -1.0});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   try {
     for (int s = 0; s < 10; ++s) symplectic_euler_step(w, f);

@@ -65,7 +65,7 @@ TEST(EnergyWatch, AnEnergyThatIsNotFiniteStopsTheRunNamingTheParticle) {
   w.particles.add(7, 0, 0.002, 2500, {0.02, 0.01, 0.01}, {});
   w.particles.omega[1] = {0, 1e160, 0};
   for (const double limit : {0.0, 0.5}) {
-    EnergyWatch watch(w, limit);
+    EnergyWatch watch(w, Model{}, limit);
     try {
       watch.observe(w, 0);
       ADD_FAILURE() << "no error with energy_growth_limit = " << limit;
@@ -74,7 +74,7 @@ TEST(EnergyWatch, AnEnergyThatIsNotFiniteStopsTheRunNamingTheParticle) {
     }
   }
   w.particles.omega[1] = {0, 1e150, 0};  // large, but its energy is finite
-  EXPECT_NO_THROW(EnergyWatch(w, 0.5).observe(w, 0));
+  EXPECT_NO_THROW(EnergyWatch(w, Model{}, 0.5).observe(w, 0));
 }
 
 }  // namespace

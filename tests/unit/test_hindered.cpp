@@ -161,10 +161,10 @@ TEST(HinderedVolumes, SuspensionFractionSolvesTheCorrelationHoleEquation) {
 // corrected as suspension_fraction does), and its rate against
 // the change when every grain moves on by v h.
 TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
-  World w = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-6);
+  auto [w, model] = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-6);
   w.domain = {{0, 0, 0}, {0.02, 0.02, 0.05}, {true, true, false}};
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}});
-  w.fluid = water(true);
+  model.fluid = water(true);
   Random rng(7);
   while (w.particles.size() < 150) {
     const double d = 0.001 + 0.0015 * rng.uniform();
@@ -176,7 +176,7 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
       w.particles.add(static_cast<std::int64_t>(w.particles.size()), 0, d, kRhoP, x,
                       {0.1 * rng.uniform() - 0.05, 0.1 * rng.uniform() - 0.05, -0.2 * rng.uniform()});
   }
-  ForceField forces;
+  ForceField forces(model);
   forces.compute(w);
   const Particles& p = w.particles;
   for (std::size_t i : {0u, 17u, 42u, 99u, 140u}) {
@@ -209,7 +209,7 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
     std::vector<Pair> pairs;
     CellGrid().find_pairs(balls, at.domain, 0.0, pairs);
     CrowdList list;
-    list.build(at, pairs);
+    list.build(at, model.fluid, norm(model.gravity), pairs);
     std::vector<Crowding> out(at.particles.size());
     for (std::size_t i = 0; i < out.size(); ++i)
       out[i] = list.of<true>(at, i, [&](std::size_t j) { return PointMotion{at.particles.position[j], at.particles.velocity[j]}; });
@@ -236,21 +236,21 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
 // same solid fraction phi, and the grains settle at the Richardson-Zaki speed u_t (1-phi)^n,
 // with velocity Verlet and with block steps.
 double settled_speed(Integrator integrator, double d, double spacing, double* phi, double* n) {
-  World w = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-5,
+  auto [w, model] = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-5,
                                 {0, 0, -kG});
   const int m = 6;
   w.domain = {{0, 0, 0}, {m * spacing, m * spacing, m * spacing}, {true, true, true}};
-  w.fluid = water(true);
+  model.fluid = water(true);
   for (int a = 0; a < m; ++a)
     for (int b = 0; b < m; ++b)
       for (int c = 0; c < m; ++c)
         w.particles.add(static_cast<std::int64_t>(w.particles.size()), 0, d, kRhoP,
                         {(a + 0.5) * spacing, (b + 0.5) * spacing, (c + 0.5) * spacing}, {});
-  ForceField forces;
+  ForceField forces(model);
   forces.compute(w);
   *phi = forces.crowding(0).solid_fraction, *n = forces.crowding(0).exponent;
-  const double ut = terminal_speed(w.fluid, kRhoP, d, kG);
-  const double tau = drag_relaxation_time(w.fluid, d, w.particles.translational_mass[0], ut, forces.crowding(0));
+  const double ut = terminal_speed(model.fluid, kRhoP, d, kG);
+  const double tau = drag_relaxation_time(model.fluid, d, w.particles.translational_mass[0], ut, forces.crowding(0));
   w.dt = tau / 50;  // 30 relaxation times in 1500 steps
   const std::int64_t steps = 1500;
   if (integrator == Integrator::block_hermite) {

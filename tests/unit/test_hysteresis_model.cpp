@@ -238,12 +238,12 @@ TEST(MovingWall, FollowsItsStretchesAndCarriesItsVelocity) {
   const Material m{"grain", 2500, 1e7, 0.3};
   ContactSpec spec = testing::spec_of("linear", "none", 0.5);
   spec.stiffness = 1000;
-  World w = testing::make_world(m, spec, 1e-6);
+  auto [w, model] = testing::make_world(m, spec, 1e-6);
   Wall plate{{0, 0, 0.00105}, {0, 0, -1}, 0};
   plate.motion = {{2e-4, {0, 0, -0.5}}, {3e-4, {0, 0, 0.25}}};
   w.walls.push_back(plate);
   w.particles.add(0, 0, 0.002, 2500, {0, 0, 0}, {});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   EXPECT_EQ(w.particles.force[0].z, 0.0);
   bool saw_first_touch = false;

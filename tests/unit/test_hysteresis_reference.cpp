@@ -98,7 +98,7 @@ CaseResult run_case(const Row& c) {
   spec.adhesion_stiffness_ratio = num(c, "adhesion_stiffness_ratio");
   spec.plasticity_depth = num(c, "plasticity_depth");
   spec.tangential_damping = c.at("tangential_damping") == "1";
-  World w = testing::make_world(m, spec, dt);
+  auto [w, model] = testing::make_world(m, spec, dt);
   Particles& p = w.particles;
   const std::vector<WallMotion> motion = motion_of(c.at("motion"), dt);
   if (geometry == "pair") {
@@ -117,10 +117,10 @@ CaseResult run_case(const Row& c) {
     plate.motion = motion;
     w.walls.push_back(plate);
   }
-  const auto& hh = std::get<HookeHysteresis>(w.laws.at(0, 0).normal);
+  const auto& hh = std::get<HookeHysteresis>(model.laws.at(0, 0).normal);
 
   CaseResult res;
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   auto sample = [&] {
     Sample s;

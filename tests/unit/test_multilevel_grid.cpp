@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/core/random.hpp"
 #include "tsubu/core/size_distribution.hpp"
 #include "tsubu/integrate/integrators.hpp"

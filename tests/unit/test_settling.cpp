@@ -58,12 +58,12 @@ struct Rk4 {
   }
 };
 
-World water_world(double dt, const Vec3& gravity) {
-  World w = testing::make_world({"quartz", kRhoP, 1e9, 0.17}, testing::spec_of("hertz_tsuji", "none", 1.0), dt, gravity);
-  w.fluid.enabled = true;
-  w.fluid.density = kRhoF;
-  w.fluid.viscosity = kNu;
-  return w;
+testing::Bed water_world(double dt, const Vec3& gravity) {
+  testing::Bed b = testing::make_world({"quartz", kRhoP, 1e9, 0.17}, testing::spec_of("hertz_tsuji", "none", 1.0), dt, gravity);
+  b.model.fluid.enabled = true;
+  b.model.fluid.density = kRhoF;
+  b.model.fluid.viscosity = kNu;
+  return b;
 }
 
 struct SettlingResult {
@@ -79,9 +79,9 @@ SettlingResult settle(double d, Integrator integrator, double steps_per_scale = 
   const double ut = terminal_speed(s);
   const double scale = ut / s.accel(0);
   const double dt = scale / steps_per_scale;
-  World w = water_world(dt, {0, 0, -kG});
+  auto [w, model] = water_world(dt, {0, 0, -kG});
   w.particles.add(0, 0, d, kRhoP, {0, 0, 0}, {});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   Rk4 ref{s};
   SettlingResult r{ut, 0, 0, 0};
@@ -140,11 +140,11 @@ TEST(SpinDecay, FollowsTheStokesTorque) {
   const double inertia = s.m * d * d / 10;
   const double k = M_PI * kRhoF * kNu * d * d * d / inertia;
   const double dt = 1e-3 / k;
-  World w = water_world(dt, {});
+  auto [w, model] = water_world(dt, {});
   w.particles.add(0, 0, d, kRhoP, {0, 0, 0}, {});
   const Vec3 w0{30, -40, 120};
   w.particles.omega[0] = w0;
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   double worst = 0;
   for (int n = 0; n < 3000; ++n) {
@@ -166,9 +166,9 @@ TEST(SpinDecay, FollowsTheStokesTorque) {
 // 2e-5, 1e-5).
 TEST(SettlingVelocityVerlet, SecondOrderInDt) {
   auto speed_after = [](double dt) {
-    World w = water_world(dt, {0, 0, -kG});
+    auto [w, model] = water_world(dt, {0, 0, -kG});
     w.particles.add(0, 0, 1e-3, kRhoP, {0, 0, 0}, {});
-    ForceField f;
+    ForceField f(model);
     f.compute(w);
     for (int n = 0; n < std::lround(0.04 / dt); ++n) velocity_verlet_step(w, f);
     return -w.particles.velocity[0].z;
@@ -188,10 +188,10 @@ TEST(SettlingVelocityVerlet, SecondOrderInDt) {
 
 // Without [fluid] nothing changes: the translational mass is the mass, no fluid force.
 TEST(NoFluid, FreeFallUnchanged) {
-  World w = testing::make_world({"quartz", kRhoP, 1e9, 0.17}, testing::spec_of("hertz_tsuji", "none", 1.0), 1e-3,
+  auto [w, model] = testing::make_world({"quartz", kRhoP, 1e9, 0.17}, testing::spec_of("hertz_tsuji", "none", 1.0), 1e-3,
                                 {0, 0, -kG});
   w.particles.add(0, 0, 1e-3, kRhoP, {0, 0, 0}, {});
-  ForceField f;
+  ForceField f(model);
   f.compute(w);
   for (int n = 0; n < 100; ++n) velocity_verlet_step(w, f);
   EXPECT_EQ(w.particles.translational_mass[0], w.particles.mass[0]);
@@ -206,7 +206,8 @@ TEST(SettlingExamples, OneMillimetreScenarioReachesTerminalSpeed) {
   EXPECT_EQ(sc.fluid.viscosity, kNu);
   World w = build_world(sc);
   ASSERT_EQ(w.particles.size(), 1u);
-  ForceField f;
+  const Model model = build_model(sc);
+  ForceField f(model);
   f.compute(w);
   EXPECT_NEAR(w.particles.translational_mass[0], Sphere(1e-3).m + kCm * kRhoF * Sphere(1e-3).volume, 1e-15);
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
@@ -223,14 +224,15 @@ TEST(FluidThreads, OneAndTwoThreadsGiveIdenticalBits) {
                                       {"fluid.density=1000", "fluid.kinematic_viscosity=1e-6", "fluid.lift=\"loth\""});
     omp_set_num_threads(threads);
     World w = build_world(sc);
-    ForceField f;
+    const Model model = build_model(sc);
+    EXPECT_TRUE(model.fluid.enabled);
+    ForceField f(model);
     f.compute(w);
     for (int k = 0; k < 100; ++k) advance(sc.integrator, w, f);
     omp_set_num_threads(1);
     return w;
   };
   const World one = run(1), two = run(2);
-  ASSERT_TRUE(one.fluid.enabled);
   auto same = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
   };

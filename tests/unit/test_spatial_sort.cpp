@@ -18,7 +18,7 @@ namespace {
 // order) and a wall contact, each with its own history (stored by id: here ids and indices
 // have the same order).
 TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
-  World w = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), 1e-6);
+  auto [w, model] = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), 1e-6);
   w.domain = {{0, 0, 0}, {1, 1, 1}, {false, false, false}};
   const Vec3 at[4] = {{0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, {0.9, 0.1, 0.1}, {0.1, 0.9, 0.1}};
   for (int k = 0; k < 4; ++k) w.particles.add(10 + k, 0, 0.01 * (k + 1), 2500, at[k], {double(k), 0, 0});

@@ -8,7 +8,7 @@
 
 namespace tsubu {
 
-void require_finite_energies(const World& world, double elastic_energy) {
+void require_finite_energies(const World& world, const Vec3& gravity, double elastic_energy) {
   const Particles& p = world.particles;
   std::ostringstream msg;
   msg << "step " << world.step << ", t = " << world.time << " s: ";
@@ -21,25 +21,25 @@ void require_finite_energies(const World& world, double elastic_energy) {
         << " J at spin (" << w.x << ", " << w.y << ", " << w.z << ") rad/s; diameter " << 2 * p.radius[i] << " m)";
     throw NumericalError(msg.str());
   }
-  const Energies e = energies(world);
+  const Energies e = energies(world, gravity);
   if (std::isfinite(e.kinetic_translational + e.kinetic_rotational + e.potential_gravity + elastic_energy)) return;
   msg << "the energies are not finite (kinetic " << e.kinetic_translational << " J, rotational " << e.kinetic_rotational
       << " J, gravitational " << e.potential_gravity << " J, elastic " << elastic_energy << " J)";
   throw NumericalError(msg.str());
 }
 
-EnergyWatch::EnergyWatch(const World& world, double limit) : limit_(limit) {
-  on_ = limit > 0 && !world.fluid.enabled;
+EnergyWatch::EnergyWatch(const World& world, const Model& model, double limit) : limit_(limit), gravity_(model.gravity) {
+  on_ = limit > 0 && !model.fluid.enabled;
   for (const Wall& w : world.walls)
     if (!w.motion.empty()) on_ = false;
   for (int k = 0; k < 3; ++k)
-    if (world.domain.periodic[k] && world.gravity[k] != 0) on_ = false;
+    if (world.domain.periodic[k] && gravity_[k] != 0) on_ = false;
 }
 
 void EnergyWatch::observe(const World& world, double elastic_energy) {
-  require_finite_energies(world, elastic_energy);
+  require_finite_energies(world, gravity_, elastic_energy);
   if (!on_) return;
-  const Energies e = energies(world);
+  const Energies e = energies(world, gravity_);
   const double active = e.kinetic_translational + e.kinetic_rotational + elastic_energy;
   const double total = active + e.potential_gravity;
   if (!state_.started) {

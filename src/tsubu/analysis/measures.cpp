@@ -5,13 +5,13 @@
 
 namespace tsubu {
 
-Energies energies(const World& w) {
+Energies energies(const World& w, const Vec3& g) {
   const Particles& p = w.particles;
   Energies e;
   for (std::size_t i = 0; i < p.size(); ++i) {
     e.kinetic_translational += p.translational_energy(i);
     e.kinetic_rotational += p.rotational_energy(i);
-    e.potential_gravity -= p.mass[i] * dot(w.gravity, p.position[i]);
+    e.potential_gravity -= p.mass[i] * dot(g, p.position[i]);
   }
   return e;
 }

@@ -13,7 +13,8 @@ struct Energies {
   double potential_gravity = 0;      // J, -sum m g.x (zero at the origin)
 };
 
-Energies energies(const World& w);
+// The energies of the particles of w under gravity g (m/s^2).
+Energies energies(const World& w, const Vec3& g);
 
 // Volume of the sphere (centre height z0, radius r) between the planes z = a and z = b.
 double sphere_slab_volume(double z0, double r, double a, double b);

@@ -30,7 +30,7 @@ std::vector<double> analysis_values(const AnalysisSpec& a, const World& w) {
     case AnalysisSpec::Kind::segregation:
       return {small_grain_share(p, a.z_low, a.z_high, a.small_diameter), grains};
     case AnalysisSpec::Kind::kinetic_energy: {
-      const Energies e = energies(w);
+      const Energies e = energies(w, Vec3{});  // its kinetic parts
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
       double mass = 0;
       for (double m : w.particles.mass) mass += m;

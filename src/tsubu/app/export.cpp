@@ -4,10 +4,11 @@
 #include <string>
 
 #include "tsubu/app/simulation_state.hpp"
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/io/contact_network.hpp"
 #include "tsubu/io/particle_csv.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 
@@ -29,7 +30,8 @@ ExportedState export_checkpoint(const fs::path& out_dir, std::optional<double> a
   // The contacts' forces are not stored: one evaluation of the checkpoint's state gives them,
   // as the first step of a resume sees it (after the particles are written: models P and F
   // move positions when they evaluate).
-  ForceField forces;
+  const Model model = build_model(sc);
+  ForceField forces(model);
   forces.compute(world);
   write_contacts_csv(out.contacts.string(), contact_network(world, forces.touching_contacts(world)), world.time);
   return out;

@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
     if (check->parsed()) {
       tsubu::World w = tsubu::build_world(sc);
       std::printf("%s: ok (%zu particles, %zu walls, %zu materials)\n", scenario_path.c_str(), w.particles.size(),
-                  w.walls.size(), w.materials.size());
+                  w.walls.size(), sc.materials.size());
       print_sources(tsubu::source_sizes(w));
       if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
         for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);

@@ -150,6 +150,7 @@ class StopSignals {
 RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_dir, const std::string& run_id,
                    int threads, bool progress, const Checkpoint* from) {
   World& world = sim.world();
+  const Model& model = sim.model();
   ForceField& forces = sim.forces();
   namespace fs = std::filesystem;
   const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
@@ -227,10 +228,10 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     }
   };
   // Entering grains bring energy: no energy-growth check with an inflow.
-  EnergyWatch energy_watch(world, inflow ? 0.0 : sc.energy_growth_limit);
+  EnergyWatch energy_watch(world, model, inflow ? 0.0 : sc.energy_growth_limit);
   if (from) energy_watch.restore(from->energy_watch);
   auto write_series = [&] {
-    const Energies e = energies(world);
+    const Energies e = energies(world, model.gravity);
     const ContactTotals c = forces.totals(world);
     energy_watch.observe(world, c.elastic_energy);  // before the row: a failing state is not written
     const std::vector<double>& results = monitor.evaluate(world);  // before it too: a signal may cut it short
@@ -278,7 +279,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   // Everything after a completed step; output files are flushed and synced first, so a
   // checkpoint never refers to rows that are not on disk.
   auto save_checkpoint = [&] {
-    require_finite_energies(world, forces.totals(world).elastic_energy);  // only good states are kept
+    require_finite_energies(world, model.gravity, forces.totals(world).elastic_energy);  // only good states are kept
     flush_rows();
     Checkpoint c;
     store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
@@ -348,7 +349,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const std::int64_t loop_first = world.step + 1;
     Progress report(progress_mode_now, log_interval, world.step, steps, elapsed());
     auto physics = [&] {
-      const Energies e = energies(world);
+      const Energies e = energies(world, model.gravity);
       return ProgressPhysics{e.kinetic_translational + e.kinetic_rotational, forces.totals(world).contacts};
     };
     const auto loop_start = std::chrono::steady_clock::now();
@@ -507,7 +508,7 @@ void refuse_losing_rows(const Scenario& sc, const Checkpoint& c, const std::file
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
-  Simulation sim(build_world(sc), sc.integrator, sc.block_steps);  // bad input is reported before the folder is touched
+  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // bad input is reported before the folder is touched
   for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
   const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
   return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);

@@ -93,7 +93,7 @@ Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used) {
 }
 
 Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::filesystem::path& used) {
-  Simulation sim(world_of_checkpoint(sc, c, used), sc.integrator, sc.block_steps);
+  Simulation sim(world_of_checkpoint(sc, c, used), build_model(sc), sc.integrator, sc.block_steps);
   if (sim.block()) {
     if (!c.block.present || c.block.state.size() != sim.world().particles.size())
       throw std::runtime_error(used.string() + ": a block-step run's checkpoint without a complete block-step state");

@@ -1,6 +1,7 @@
 // What a contact model sees of one contact (docs/engine.md, "Notation").
 #pragma once
 #include "tsubu/core/dual.hpp"
+#include "tsubu/world/contact_list.hpp"
 
 namespace tsubu {
 
@@ -21,13 +22,6 @@ struct BasicContactGeometry {
 };
 using ContactGeometry = BasicContactGeometry<double>;
 using DualContactGeometry = BasicContactGeometry<Dual>;
-
-// Per-contact memory. `xi` is the tangential spring (a vector in the tangent plane); the
-// `normal` slots belong to the normal model (each model documents what it keeps there).
-struct ContactHistory {
-  Vec3 xi;
-  double normal[2] = {0, 0};
-};
 
 // What a normal model returns: the normal force (positive repulsive), its linear-equivalent
 // stiffness and damping coefficient (the tangential models scale theirs from these), the

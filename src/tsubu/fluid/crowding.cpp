@@ -40,7 +40,7 @@ SuspensionFraction suspension_fraction(double solid, double solid_rate, double r
   return {phi, (solid_rate - phi * room_rate) / (room + own * slope)};
 }
 
-void CrowdList::build(const World& world, const std::vector<Pair>& found) {
+void CrowdList::build(const World& world, const Fluid& fluid, double g, const std::vector<Pair>& found) {
   const Particles& p = world.particles;
   const std::size_t n = p.size();
   start_.assign(n + 1, 0);
@@ -53,10 +53,10 @@ void CrowdList::build(const World& world, const std::vector<Pair>& found) {
   for (const Pair& q : found) neighbour_[fill[q.j]++] = q.i;
   for (const Pair& q : found) neighbour_[fill[q.i]++] = q.j;
   exponent_.resize(n);
-  const double g = norm(world.gravity);
+  ball_ratio_ = fluid.hindered_ball_ratio;
   for (std::size_t i = 0; i < n; ++i) {
     const double d = 2 * p.radius[i], rho = p.mass[i] / (M_PI * d * d * d / 6);
-    exponent_[i] = richardson_zaki_exponent(terminal_speed(world.fluid, rho, d, g) * d / world.fluid.viscosity);
+    exponent_[i] = richardson_zaki_exponent(terminal_speed(fluid, rho, d, g) * d / fluid.viscosity);
   }
 }
 

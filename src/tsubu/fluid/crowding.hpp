@@ -66,8 +66,9 @@ SuspensionFraction suspension_fraction(double solid, double solid_rate, double r
 class CrowdList {
  public:
   // From `found` (pairs i < j sorted by (i, j), within the balls' reach) over the particles
-  // of `world`; the exponents from each grain's terminal Reynolds number.
-  void build(const World& world, const std::vector<Pair>& found);
+  // of `world` in `fluid` under gravity g (m/s^2); the exponents from each grain's terminal
+  // Reynolds number.
+  void build(const World& world, const Fluid& fluid, double g, const std::vector<Pair>& found);
   // The ball radii to search with: c r_i + reach_i, where probe_radius = r_i + reach_i.
   static double probe_radius(const Fluid& fluid, double radius, double probe_radius) {
     return probe_radius + (fluid.hindered_ball_ratio - 1) * radius;
@@ -80,7 +81,7 @@ class CrowdList {
   Crowding of(const World& world, std::size_t i, const At& at) const {
     const Particles& p = world.particles;
     const PointMotion self = at(i);
-    const double r = p.radius[i], R = world.fluid.hindered_ball_ratio * r;
+    const double r = p.radius[i], R = ball_ratio_ * r;
     double solid = 0, solid_rate = 0;  // of the other grains in the ball
     for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
       const std::uint32_t j = neighbour_[k];
@@ -109,6 +110,7 @@ class CrowdList {
   std::vector<std::uint32_t> start_;      // per particle + 1, offsets into neighbour_
   std::vector<std::uint32_t> neighbour_;  // each particle's neighbours in ascending order
   std::vector<double> exponent_;          // Richardson-Zaki n per particle
+  double ball_ratio_ = 0;                 // Fluid::hindered_ball_ratio
 };
 
 }  // namespace tsubu

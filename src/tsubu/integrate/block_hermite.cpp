@@ -119,10 +119,10 @@ void BlockHermite::take_state(World& world, const ForceField& forces, std::size_
   Particles& p = world.particles;
   const double d = 2 * p.radius[i], m = p.translational_mass[i];
   const Crowding& crowd = forces.crowding(i);
-  const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, p.velocity[i], p.omega[i], crowd);
+  const FluidLoad fl = fluid_load(forces.model().fluid, d, forces.model().gravity, p.velocity[i], p.omega[i], crowd);
   state_.acc[i] = (p.force[i] + fl.force) / m;
   state_.alpha[i] = (p.torque[i] + fl.torque) / p.inertia[i];
-  const FluidLoad fr = fluid_load_rate(world.fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i], crowd);
+  const FluidLoad fr = fluid_load_rate(forces.model().fluid, d, p.velocity[i], state_.acc[i], p.omega[i], state_.alpha[i], crowd);
   state_.jerk[i] = (rates_.force[i] + fr.force) / m;
   state_.alpha_dot[i] = (rates_.torque[i] + fr.torque) / p.inertia[i];
   p.force[i] += fl.force, p.torque[i] += fl.torque;
@@ -142,7 +142,7 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
   slot_.resize(n, UINT32_MAX);
   std::vector<std::uint32_t> fresh;
   for (std::size_t i = first; i < n; ++i) {
-    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * p.radius[i]);
+    p.translational_mass[i] = p.mass[i] + forces.model().fluid.added_mass_of(2 * p.radius[i]);
     state_.time[i] = now;
     fresh.push_back(static_cast<std::uint32_t>(i));
     is_active_[i] = 1;
@@ -152,8 +152,8 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
                         contact_rules(), rates_);
   for (std::uint32_t i : fresh) {
     take_state(world, forces, i);
-    const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]),
-                                   rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
+    const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]),
+                                   rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
                                                                          norm(p.velocity[i]), forces.crowding(i))});
     set_level(i, level_for(bound, world));
     ++stats_.evaluations[state_.level[i]];
@@ -185,7 +185,7 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
   const std::size_t n = p.size();
   const Predictor kin = predictor(world, t);
   const double horizon = rules_.list_horizon * world.dt;
-  const double skin = ForceField::skin_of(world);
+  const double skin = forces.skin_of(world);
   list_positions_.resize(n);
   list_reach_.resize(n);
   parallel_for(n, [&](std::size_t i) {
@@ -336,12 +336,12 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // the new force.
     const bool woken = is_active_[i] == 2;
     Vec3 v = pred.v, w = pred.w, a1 = pred.a, al1 = pred.alpha, j1, ad1, a2, a3, b2, b3;
-    const int passes = world.fluid.enabled ? 2 : 1;
+    const int passes = forces.model().fluid.enabled ? 2 : 1;
     for (int pass = 0; pass < passes; ++pass) {
       // The rates are taken along the accelerations of the pass before (the predicted ones
       // first): the second pass's are within O(h^3) of the true ones.
       const FluidLoadWithRate fluid =
-          fluid_load_with_rate(world.fluid, 2 * p.radius[i], world.gravity, v, a1, w, al1, forces.crowding(i));
+          fluid_load_with_rate(forces.model().fluid, 2 * p.radius[i], forces.model().gravity, v, a1, w, al1, forces.crowding(i));
       const FluidLoad &fl = fluid.value, &fr = fluid.rate;
       a1 = (f_c + fl.force) / m, al1 = (t_c + fl.torque) / inertia;
       j1 = (rates_.force[i] + fr.force) / m, ad1 = (rates_.torque[i] + fr.torque) / inertia;
@@ -361,7 +361,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // Aarseth's criterion with the derivatives at the step's end, for free particles (spec section 2); a particle in touch takes
     // the contact rules, which follow its contacts' stiffness.
     if (!woken && p.contact_count[i] == 0)
-      rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, norm(world.gravity), a1, j1, a2 + h * a3, a3));
+      rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, norm(forces.model().gravity), a1, j1, a2 + h * a3, a3));
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
@@ -411,7 +411,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
   parallel_for(active_.size(), [&](std::size_t q) {
     const std::uint32_t i = active_[q];
     double bound = rates_.step_bound[i];
-    bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(world.fluid, 2 * p.radius[i], p.translational_mass[i],
+    bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
                                                                   norm(p.velocity[i]), forces.crowding(i)));
     // The gap rules know only the listed neighbours: a step must not carry the particle out
     // of the region its list covers (a fast grain on a long step would pass through grains it
@@ -425,7 +425,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     // eta_s |a|/|j| ~ eta_s m/eta (35 ns for 0.5 mm grains) would hold every grain of a
     // deposit, which share one level, on it while any of its contacts opens or closes.
     if (contacts_before[q] != p.contact_count[i] && (contacts_before[q] == 0 || p.contact_count[i] == 0))
-      bound = std::min(bound, second_order(rules_.eta_s, norm(world.gravity), state_.acc[i], state_.jerk[i]));
+      bound = std::min(bound, second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]));
     int level = level_for(bound, world);
     if (rules_.force_level < 0) {
       level = std::max(level, int(state_.level[i]) - 1);  // double at most once a step
@@ -460,7 +460,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
 void BlockHermite::advance(World& world, ForceField& forces) {
   const std::int64_t begin = world.step << rules_.levels, end = begin + (std::int64_t{1} << rules_.levels);
   const double dt_tick = tick(world);
-  if (world.search.sort_every > 0 && world.step % world.search.sort_every == 0) {
+  if (forces.model().search.sort_every > 0 && world.step % forces.model().search.sort_every == 0) {
     const std::vector<std::uint32_t> order = forces.sort(world);  // order[new] = old
     state_.for_each_array([&](auto& a) {
       auto sorted = a;

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/hermite_state.hpp"
 #include "tsubu/world/kinematics.hpp"
 

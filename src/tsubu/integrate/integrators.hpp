@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 
 namespace tsubu {
 

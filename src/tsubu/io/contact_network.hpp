@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/io/vtk.hpp"
 #include "tsubu/world/world.hpp"
 

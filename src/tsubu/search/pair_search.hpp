@@ -6,14 +6,11 @@
 #include <variant>
 #include <vector>
 
+#include "tsubu/world/contact_list.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
 namespace tsubu {
-
-struct Pair {
-  std::uint32_t i, j;
-};
 
 // Where a grid lies along each axis: the box along periodic axes, the particles' extent
 // along the others (a few grains in a large box cost nothing).

@@ -2,8 +2,8 @@
 
 namespace tsubu {
 
-Simulation::Simulation(World world, Integrator integrator, const BlockStepRules& block_steps)
-    : world_(std::move(world)), integrator_(integrator) {
+Simulation::Simulation(World world, Model model, Integrator integrator, const BlockStepRules& block_steps)
+    : model_(std::make_unique<const Model>(std::move(model))), world_(std::move(world)), integrator_(integrator) {
   if (integrator_ == Integrator::block_hermite) block_ = std::make_unique<BlockHermite>(block_steps);
 }
 
@@ -29,9 +29,9 @@ void Simulation::particles_added(std::size_t first) {
   Particles& p = world_.particles;
   for (std::size_t i = first; i < p.size(); ++i) {
     const double d = 2 * p.radius[i];
-    const FluidLoad fl = fluid_load(world_.fluid, d, world_.gravity, p.velocity[i], p.omega[i]);
-    p.translational_mass[i] = p.mass[i] + world_.fluid.added_mass_of(d);
-    p.force[i] = p.mass[i] * world_.gravity + fl.force;
+    const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, p.velocity[i], p.omega[i]);
+    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(d);
+    p.force[i] = p.mass[i] * model_->gravity + fl.force;
     p.torque[i] = fl.torque;
     p.contact_count[i] = 0;
   }

@@ -1,11 +1,11 @@
-// A run's state and its time loop as a library: world, contact lists and force field, and
-// the integrator that advances them. The command line drives it (app/runner.cpp), adding
+// A run's state and its time loop as a library: the world (state), the model (physics), the
+// force field that evaluates one under the other, and the integrator that advances them. The command line drives it (app/runner.cpp), adding
 // files, progress and signals around it; other drivers (Python, MPI) drive the same object.
 #pragma once
 #include <cstdint>
 #include <memory>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/world/world.hpp"
@@ -15,7 +15,7 @@ namespace tsubu {
 class Simulation {
  public:
   // `world` at its start (step 0, forces not yet evaluated) or restored from a checkpoint.
-  Simulation(World world, Integrator integrator, const BlockStepRules& block_steps);
+  Simulation(World world, Model model, Integrator integrator, const BlockStepRules& block_steps);
 
   // A fresh run: the first force evaluation (and, for block steps, the first steps).
   void start();
@@ -31,6 +31,7 @@ class Simulation {
 
   World& world() { return world_; }
   const World& world() const { return world_; }
+  const Model& model() const { return *model_; }
   ForceField& forces() { return forces_; }
   const ForceField& forces() const { return forces_; }
   Integrator integrator() const { return integrator_; }
@@ -43,8 +44,9 @@ class Simulation {
   std::uint64_t particle_force_evaluations() const;
 
  private:
+  std::unique_ptr<const Model> model_;  // where the force field finds it, however the Simulation moves
   World world_;
-  ForceField forces_;
+  ForceField forces_{*model_};
   Integrator integrator_;
   std::unique_ptr<BlockHermite> block_;
 };

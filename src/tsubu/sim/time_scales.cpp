@@ -61,7 +61,7 @@ std::vector<GrainTimes> grain_sizes(const Scenario& sc, const World& w) {
     x.diameter = d;
     g.push_back(x);
   };
-  for (std::size_t m = 0; m < w.materials.size(); ++m) {
+  for (std::size_t m = 0; m < sc.materials.size(); ++m) {
     double lo = INFINITY, hi = 0;
     for (std::size_t i = 0; i < w.particles.size(); ++i)
       if (w.particles.material[i] == static_cast<int>(m)) lo = std::min(lo, 2 * w.particles.radius[i]), hi = std::max(hi, 2 * w.particles.radius[i]);
@@ -103,10 +103,10 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
 
 // The shortest collision over every pair of the grains and every wall (a material with a
 // single grain and no inflow has no pairs of its own).
-void shortest_contact(const Scenario& sc, const World& w, TimeScales& ts) {
+void shortest_contact(const Scenario& sc, const World& w, const LawTable& laws, TimeScales& ts) {
   ts.shortest_contact = INFINITY;
-  std::vector<bool> several(w.materials.size(), false);
-  std::vector<std::size_t> count(w.materials.size(), 0);
+  std::vector<bool> several(sc.materials.size(), false);
+  std::vector<std::size_t> count(sc.materials.size(), 0);
   for (int m : w.particles.material) several[static_cast<std::size_t>(m)] = ++count[static_cast<std::size_t>(m)] > 1;
   if (const ParticleSource* src = inflow_source(sc)) several[static_cast<std::size_t>(src->material)] = true;
   auto consider = [&](const PairLaw& law, double m_eff, double r_eff, const std::string& what) {
@@ -125,10 +125,10 @@ void shortest_contact(const Scenario& sc, const World& w, TimeScales& ts) {
       const GrainTimes& gb = ts.grains[b];
       if (ga.material == gb.material && !several[static_cast<std::size_t>(ga.material)]) continue;  // one grain alone
       const double mb = sphere_mass(sc.materials[gb.material].density, gb.diameter), rb = gb.diameter / 2;
-      consider(w.laws.at(ga.material, gb.material), ma * mb / (ma + mb), ra * rb / (ra + rb), name(ga) + " on " + name(gb));
+      consider(laws.at(ga.material, gb.material), ma * mb / (ma + mb), ra * rb / (ra + rb), name(ga) + " on " + name(gb));
     }
     for (const Wall& wall : w.walls)
-      consider(w.laws.at(ga.material, wall.material), ma, ra, name(ga) + " on a " + sc.materials[wall.material].name + " wall");
+      consider(laws.at(ga.material, wall.material), ma, ra, name(ga) + " on a " + sc.materials[wall.material].name + " wall");
   }
 }
 
@@ -210,11 +210,12 @@ TimeScales time_scales(const Scenario& sc, const World& w) {
   }
   impact_speed(sc, w, ts);
   // Each grain's collision with an equal one, at the impact speed.
+  const LawTable laws = build_model(sc).laws;
   for (GrainTimes& x : ts.grains) {
     const double m = sphere_mass(sc.materials[x.material].density, x.diameter);
-    x.contact_time = contact_time(w.laws.at(x.material, x.material).normal, m / 2, x.diameter / 4, ts.impact_speed);
+    x.contact_time = contact_time(laws.at(x.material, x.material).normal, m / 2, x.diameter / 4, ts.impact_speed);
   }
-  shortest_contact(sc, w, ts);
+  shortest_contact(sc, w, laws, ts);
   ts.steps = std::llround(sc.duration / sc.dt);
   judge_dt(sc, ts);
   return ts;
@@ -223,7 +224,7 @@ TimeScales time_scales(const Scenario& sc, const World& w) {
 WallTimeEstimate estimate_wall_time(const Scenario& sc, World world, std::int64_t max_steps, double budget_s) {
   using clock = std::chrono::steady_clock;
   WallTimeEstimate e;
-  Simulation sim(std::move(world), sc.integrator, sc.block_steps);
+  Simulation sim(std::move(world), build_model(sc), sc.integrator, sc.block_steps);
   try {
     sim.start();
     const auto t0 = clock::now();

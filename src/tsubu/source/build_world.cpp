@@ -71,16 +71,16 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 // A particle that starts deeper in a wall than simulation.overlap_limit would stop the run
 // at its first force evaluation; `check` reports it here, as the run sees it (a wall pushes
 // only centres in front of its plane).
-void check_walls(const World& w, const std::vector<Grain>& grains) {
+void check_walls(const World& w, double overlap_limit, const std::vector<Grain>& grains) {
   const Particles& p = w.particles;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t k = 0; k < w.walls.size(); ++k) {
       const double dist = w.walls[k].distance(p.position[i]);
       const double ratio = (p.radius[i] - dist) / (2 * p.radius[i]);
-      if (dist > 0 && !(ratio <= w.overlap_limit)) {
+      if (dist > 0 && !(ratio <= overlap_limit)) {
         std::ostringstream s;
         s << "particle centre " << format_vec(p.position[i]) << " (diameter " << 2 * p.radius[i] << " m) starts inside wall "
-          << k << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << w.overlap_limit
+          << k << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << overlap_limit
           << " (move the particle or the wall)";
         fail_at(grains[i].where, s.str());
       }
@@ -138,16 +138,21 @@ InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
 World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
-  w.materials = sc.materials;
   w.walls = sc.walls;
-  w.gravity = sc.gravity;
-  w.fluid = sc.fluid;
   w.dt = sc.dt;
-  w.overlap_limit = sc.overlap_limit;
-  w.skin = sc.skin;
-  w.search = sc.search;
-  w.laws = build_laws(sc);
   return w;
+}
+
+Model build_model(const Scenario& sc) {
+  Model m;
+  m.materials = sc.materials;
+  m.laws = build_laws(sc);
+  m.gravity = sc.gravity;
+  m.fluid = sc.fluid;
+  m.search = sc.search;
+  m.overlap_limit = sc.overlap_limit;
+  m.skin = sc.skin;
+  return m;
 }
 
 World build_world(const Scenario& sc) {
@@ -230,7 +235,7 @@ World build_world(const Scenario& sc) {
       fail_at(sc.fluid_where, s.str());
     }
   check_overlaps(w, grains, tolerance);
-  check_walls(w, grains);
+  check_walls(w, sc.overlap_limit, grains);
   check_tracked(sc, w);
   return w;
 }

@@ -1,8 +1,9 @@
-// Scenario -> World: particles from every source, contact laws, and the checks that need
-// the particles (inside the domain, no overlapping input, periodic box large enough).
+// Scenario -> World and Model: particles from every source, the contact laws, and the checks
+// that need the particles (inside the domain, no overlapping input, periodic box large enough).
 #pragma once
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/model/model.hpp"
 #include "tsubu/source/inflow.hpp"
 #include "tsubu/world/world.hpp"
 
@@ -16,8 +17,11 @@ World build_world(const Scenario& scenario);
 // build_world's (first_id = the number of particles build_world made).
 InflowColumn inflow_column(const Scenario& scenario, const ParticleSource& src);
 
-// The box, materials, walls, gravity, clock settings and contact laws, without particles
-// (tsubu resume takes those from a checkpoint).
+// The box, walls and clock settings, without particles (tsubu resume takes those from a
+// checkpoint).
 World build_empty_world(const Scenario& scenario);
+
+// The materials, contact laws, gravity, fluid, search and limits of the scenario.
+Model build_model(const Scenario& scenario);
 
 }  // namespace tsubu

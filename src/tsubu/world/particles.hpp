@@ -10,12 +10,12 @@ namespace tsubu {
 
 struct Particles {
   std::vector<std::int64_t> id;       // user-visible id, stable for the whole run
-  std::vector<int> material;          // index into World::materials
+  std::vector<int> material;          // index into Model::materials
   std::vector<double> radius;         // m
   std::vector<double> mass;           // kg
   std::vector<double> translational_mass;  // kg, mass + the fluid's added mass C_M rho_f V: the
                                            // inertia the integrators divide forces by (set by
-                                           // ForceField::compute from World::fluid)
+                                           // ForceField::compute from Model::fluid)
   std::vector<double> inertia;        // kg m^2, solid sphere: 2/5 m R^2
   std::vector<Vec3> position;         // m
   std::vector<Vec3> velocity;         // m/s

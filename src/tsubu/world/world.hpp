@@ -1,12 +1,12 @@
-// Everything a run evolves: particles, walls, box, materials, contact laws, contacts, clock.
+// Everything a run evolves: box, walls, particles, contacts with their histories, clock.
+// The physics that acts on it (materials, laws, gravity, fluid, search) is the Model
+// (model/model.hpp), beside it.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
-#include "tsubu/contact/contact_list.hpp"
-#include "tsubu/contact/law.hpp"
-#include "tsubu/fluid/fluid.hpp"
-#include "tsubu/search/pair_search.hpp"
+#include "tsubu/world/contact_list.hpp"
 #include "tsubu/world/domain.hpp"
 #include "tsubu/world/particles.hpp"
 
@@ -14,19 +14,12 @@ namespace tsubu {
 
 struct World {
   Domain domain;
-  std::vector<Material> materials;
   std::vector<Wall> walls;
   Particles particles;
-  LawTable laws;
-  Vec3 gravity;            // m/s^2
-  Fluid fluid;             // still fluid around the particles; disabled by default
   double dt = 0;           // s
   double time = 0;         // s
   std::int64_t step = 0;
-  double overlap_limit = 0.1;  // largest overlap / smaller diameter before the run stops
-  double skin = 0;             // m, neighbour-list margin; 0: a tenth of the smallest diameter
-  ContactList contacts;  // neighbour lists with their histories (contact/contact_list.hpp)
-  SearchSpec search;  // contact search method of the neighbour-list builds
+  ContactList contacts;  // neighbour lists with their histories (world/contact_list.hpp)
   // The particle ids each [[particles]] source gave, [first, last) in the order of the
   // scenario (an inflow: from its first grain on); set by build_world.
   std::vector<std::pair<std::int64_t, std::int64_t>> source_ids;

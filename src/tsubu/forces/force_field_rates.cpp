@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 #include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
 
@@ -128,11 +128,11 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
       if (side == 0) {
         const Contact& c = walls[k];
-        visit_law(world.laws.at(p.material[c.i], world.walls[c.j].material),
+        visit_law(model_->laws.at(p.material[c.i], world.walls[c.j].material),
                   [&](const auto& n, const auto& t) { evaluate_wall_rates(world, kin, k, rules, n, t); });
       } else if (side > 0 || !is_active[pairs[k].i]) {
         const Contact& c = pairs[k];
-        visit_law(world.laws.at(p.material[c.i], p.material[c.j]),
+        visit_law(model_->laws.at(p.material[c.i], p.material[c.j]),
                   [&](const auto& n, const auto& t) { evaluate_pair_rates(world, kin, k, rules, n, t); });
       }
     });
@@ -152,10 +152,10 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
     const double r = p.radius[i];
-    Vec3 force = p.mass[i] * world.gravity, torque, force_rate, torque_rate;
+    Vec3 force = p.mass[i] * model_->gravity, torque, force_rate, torque_rate;
     // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
     // where the corrected velocity is known (see BlockHermite::correct).
-    p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(2 * r);
+    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * r);
     int count = 0, own = 0;
     std::uint64_t evaluated = 0;
     double deepest = 0, bound = kNever, damping_over_mass = 0;
@@ -197,7 +197,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   });
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
-  if (!(max_ratio <= world.overlap_limit)) report_overlap(world, true);
+  if (!(max_ratio <= model_->overlap_limit)) report_overlap(world, true);
 }
 
 void ForceField::dashpot_response(const World& world, const std::vector<std::uint32_t>& active,

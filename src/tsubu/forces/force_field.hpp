@@ -1,10 +1,11 @@
-// Computes the force and torque on every particle: gravity, the still fluid's forces
-// (World::fluid) and all pair and wall contacts.
+// Computes the force and torque on every particle of a World under a Model: gravity, the
+// still fluid's forces (Model::fluid) and all pair and wall contacts (Model::laws).
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "tsubu/fluid/crowding.hpp"
+#include "tsubu/model/model.hpp"
 #include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/kinematics.hpp"
 #include "tsubu/world/world.hpp"
@@ -54,8 +55,12 @@ struct EvaluationRates {
 // build; in between, each step only evaluates the listed pairs.
 class ForceField {
  public:
+  // The physics the field evaluates; `model` must outlive the field.
+  explicit ForceField(const Model& model) : model_(&model) {}
+  const Model& model() const { return *model_; }
+
   // Evaluates every touching contact and sums forces and torques (with gravity) into
-  // world.particles. Throws NumericalError when an overlap exceeds world.overlap_limit or
+  // world.particles. Throws NumericalError when an overlap exceeds Model::overlap_limit or
   // a force is not finite. The still fluid's forces are taken at the velocity and spin
   // v + fluid_lead F/m, w + fluid_lead T/I with the previous force and torque: velocity
   // Verlet, whose velocities are half a step behind here, passes dt/2 (its fluid forces
@@ -85,8 +90,8 @@ class ForceField {
   // order[new] = old; the lists are rebuilt at the next evaluation.
   std::vector<std::uint32_t> sort(World& world);
   double skin() const { return skin_; }
-  // The neighbour-list margin of a world: world.skin, or a tenth of the smallest diameter.
-  static double skin_of(const World& world);
+  // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
+  double skin_of(const World& world) const;
 
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).
@@ -137,6 +142,7 @@ class ForceField {
     Vec3 n;                // unit normal from j to i (dashpot_response)
     double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
   };
+  const Model* model_;
   PairSearch grid_;
   static constexpr Crowding kLone{};
   CrowdList crowd_list_;              // built with the lists when the fluid hinders settling

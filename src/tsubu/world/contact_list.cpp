@@ -1,4 +1,4 @@
-#include "tsubu/contact/contact_list.hpp"
+#include "tsubu/world/contact_list.hpp"
 
 #include <algorithm>
 

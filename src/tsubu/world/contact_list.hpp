@@ -11,11 +11,21 @@
 #include <cstdint>
 #include <vector>
 
-#include "tsubu/contact/geometry.hpp"
-#include "tsubu/search/pair_search.hpp"
 #include "tsubu/world/particles.hpp"
 
 namespace tsubu {
+
+// Per-contact memory. `xi` is the tangential spring (a vector in the tangent plane); the
+// `normal` slots belong to the normal model (each model documents what it keeps there).
+struct ContactHistory {
+  Vec3 xi;
+  double normal[2] = {0, 0};
+};
+
+// Two particle indices (i < j), or a particle and a wall: what a contact search finds.
+struct Pair {
+  std::uint32_t i, j;
+};
 
 // An entry of a neighbour list. Pairs: particles i < j (indices). Walls: particle i, wall j.
 // `touching` says whether it overlapped at the last evaluation; the history of an entry

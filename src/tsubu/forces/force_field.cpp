@@ -1,4 +1,4 @@
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -89,8 +89,8 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
 }
 
 void ForceField::compute(World& world, double fluid_lead) {
-  shifts_ = world.laws.corrects_positions();
-  const std::int64_t sort_every = world.search.sort_every;
+  shifts_ = model_->laws.corrects_positions();
+  const std::int64_t sort_every = model_->search.sort_every;
   if (sort_every > 0 && world.step % sort_every == 0) sort(world);
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
@@ -128,9 +128,9 @@ bool ForceField::needs_rebuild(const World& world) const {
   return false;
 }
 
-double ForceField::skin_of(const World& world) {
+double ForceField::skin_of(const World& world) const {
   const Particles& p = world.particles;
-  if (world.skin > 0 || p.size() == 0) return world.skin;
+  if (model_->skin > 0 || p.size() == 0) return model_->skin;
   return 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
 }
 
@@ -161,7 +161,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   pair_rates_ = {}, wall_rates_ = {};
   ContactList& contacts = world.contacts;
   contacts.release_index();
-  grid_.configure(world.search);
+  grid_.configure(model_->search);
   std::vector<Pair> candidates;
   grid_.find_pairs(probe, world.domain, margin, candidates);
   contacts.carry_pairs(candidates);
@@ -174,7 +174,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
 
 void ForceField::build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch) {
   crowding_.clear();
-  if (!world.fluid.enabled || !world.fluid.hindered) {
+  if (!model_->fluid.enabled || !model_->fluid.hindered) {
     crowd_list_ = {};
     return;
   }
@@ -182,16 +182,16 @@ void ForceField::build_crowd_list(World& world, const Particles& probe, double m
   Particles balls;
   balls.position = probe.position;
   balls.radius.resize(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) balls.radius[i] = CrowdList::probe_radius(world.fluid, p.radius[i], probe.radius[i]);
+  for (std::size_t i = 0; i < p.size(); ++i) balls.radius[i] = CrowdList::probe_radius(model_->fluid, p.radius[i], probe.radius[i]);
   grid_.find_pairs(balls, world.domain, margin, scratch);
   // The search's reach c (r_i + r_j) is more than the balls need, r_i + r_j + (c - 1) max(r_i, r_j)
   // (three times the pairs for one size): the others are dropped.
-  const double stretch = world.fluid.hindered_ball_ratio - 1;
+  const double stretch = model_->fluid.hindered_ball_ratio - 1;
   std::erase_if(scratch, [&](const Pair& q) {
     const double reach = probe.radius[q.i] + probe.radius[q.j] + stretch * std::max(p.radius[q.i], p.radius[q.j]) + margin;
     return norm2(world.domain.separation(probe.position[q.i], probe.position[q.j])) >= reach * reach;
   });
-  crowd_list_.build(world, scratch);
+  crowd_list_.build(world, model_->fluid, norm(model_->gravity), scratch);
   crowding_.resize(p.size());
 }
 
@@ -218,7 +218,7 @@ void ForceField::evaluate_pairs(World& world) {
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
   const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
   const int threads = threads_for(contacts.size());
-  const bool uniform = world.laws.uniform();
+  const bool uniform = model_->laws.uniform();
   for_each_thread(threads, [&](int t) {
     const auto [first, last] = static_range(blocks, t, threads);
     for (std::size_t block = first; block < last; ++block)
@@ -259,11 +259,11 @@ void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_
   const double dt = world.dt;
   if (uniform) {
     std::visit([&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, dt, normal, tangential); },
-               world.laws.laws.front().normal, world.laws.laws.front().tangential);
+               model_->laws.laws.front().normal, model_->laws.laws.front().tangential);
   } else {
     for (std::size_t b = 0; b < m; ++b) {
       const Contact& c = contacts[touching[b]];
-      const PairLaw& law = world.laws.at(p.material[c.i], p.material[c.j]);
+      const PairLaw& law = model_->laws.at(p.material[c.i], p.material[c.j]);
       std::visit([&](const auto& nm, const auto& tm) { lanes.evaluate_one(b, dt, nm, tm); }, law.normal, law.tangential);
     }
   }
@@ -288,9 +288,9 @@ void ForceField::evaluate_walls(World& world) {
   wall_results_.resize(contacts.size(), shifts_);
   const double dt = world.dt;
   auto law_of = [&](std::size_t k) -> const PairLaw& {
-    return world.laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
+    return model_->laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
   };
-  for_each_contact(world.laws, contacts.size(), law_of, [&](std::size_t k, const auto& normal, const auto& tangential) {
+  for_each_contact(model_->laws, contacts.size(), law_of, [&](std::size_t k, const auto& normal, const auto& tangential) {
     Contact& c = contacts[k];
     const std::size_t i = c.i;
     const Wall& wall = world.walls[c.j];
@@ -328,18 +328,18 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      Vec3 force = p.mass[i] * world.gravity, torque, shift;
-      if (world.fluid.enabled) {
+      Vec3 force = p.mass[i] * model_->gravity, torque, shift;
+      if (model_->fluid.enabled) {
         // The still fluid: per particle, at the velocity and spin of the step's end (see
         // compute()). The added mass is refreshed here too, so particles added at any time
         // get it.
         const double d = 2 * p.radius[i];
         Vec3 u = p.velocity[i], w = p.omega[i];
         if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-        const FluidLoad fl = fluid_load(world.fluid, d, world.gravity, u, w, crowding(i));
+        const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, u, w, crowding(i));
         force += fl.force;
         torque += fl.torque;
-        p.translational_mass[i] = p.mass[i] + world.fluid.added_mass_of(d);
+        p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(d);
       }  // without a fluid it stays the grain mass that Particles::add set
       // Every pair is gathered by both its particles, so the largest overlap over the own
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.
@@ -367,7 +367,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
   });
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = *std::max_element(worst.begin(), worst.end());
-  if (!(max_ratio <= world.overlap_limit)) report_overlap(world, false);
+  if (!(max_ratio <= model_->overlap_limit)) report_overlap(world, false);
 }
 
 ContactTotals ForceField::totals(const World& world) const {
@@ -425,7 +425,7 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
   if (worst) {
     const std::size_t a = worst->i, b = worst->j;
     const int mat_b = wall ? world.walls[b].material : p.material[b];
-    model = std::visit([](const auto& m) { return std::string(m.name); }, world.laws.at(p.material[a], mat_b).normal);
+    model = std::visit([](const auto& m) { return std::string(m.name); }, model_->laws.at(p.material[a], mat_b).normal);
     msg << "contact between particle id " << p.id[a] << " and "
         << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model " << model
         << ") has overlap/diameter " << ratio;
@@ -437,7 +437,7 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
            " model's range, (a+1) e^2 u^2 < a d^2: raise e or lower k_n dt^2/m*)";
   else if (!std::isfinite(ratio))
     msg << " (a non-finite force)";
-  msg << " (limit " << world.overlap_limit << ", simulation.overlap_limit); ";
+  msg << " (limit " << model_->overlap_limit << ", simulation.overlap_limit); ";
   // Before the first step the cause is the input, whatever dt is.
   if (world.step == 0)
     msg << "this is the initial state, before any time step: the input places particles too deep in each other or "

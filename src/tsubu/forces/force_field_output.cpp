@@ -1,6 +1,6 @@
 // ForceField's view of its contacts for output: read from the stored results after an
 // evaluation, outside the stepping loop.
-#include "tsubu/contact/force_field.hpp"
+#include "tsubu/forces/force_field.hpp"
 
 namespace tsubu {
 
