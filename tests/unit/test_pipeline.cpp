@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "scenario_run.hpp"
+#include "world_builder.hpp"
 
 namespace tsubu {
 namespace {
@@ -79,6 +80,29 @@ TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsHertzTsuji) { expect_s
 
 TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsHertzSediment) {
   expect_same_evaluations({"contact.default.normal=\"hertz_sediment\"", "contact.default.friction_bound=\"total\""});
+}
+
+// A law defined on fixed steps only (here model P) cannot be evaluated for block steps: an
+// error, never a skipped contact.
+TEST(Pipeline, BlockStepsRefuseALawWithoutRates) {
+  ContactSpec spec = testing::spec_of("energy_conserving", "none", 0.9);
+  spec.stiffness = 1000;
+  auto [w, model] = testing::make_world({"grain", 2500, 1e7, 0.3}, spec, 1e-6);
+  w.particles.add(0, 0, 0.002, 2500, {0, 0, 0}, {});
+  w.particles.add(1, 0, 0.002, 2500, {0.0019, 0, 0}, {});
+  ForceField field(model);
+  field.rebuild_at(w, w.particles.position, {0, 0});
+  const std::vector<std::int64_t> time(2, 0);
+  const std::vector<Vec3> zero(2);
+  const Predictor kin{w.particles, w.domain, time, zero, zero, zero, zero, 1, 1e-6};
+  EvaluationRates rates;
+  rates.force.resize(2), rates.torque.resize(2), rates.step_bound.resize(2);
+  try {
+    field.compute_active(w, kin, {0, 1}, {1, 1}, ContactStepRules{1, 1, 1, 0}, rates);
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("energy_conserving (P) has no rates"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

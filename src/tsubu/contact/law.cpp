@@ -69,6 +69,19 @@ bool LawTable::corrects_positions() const {
   return false;
 }
 
+std::string LawTable::without_rates() const {
+  for (const auto& l : laws) {
+    const char* name = std::visit(
+        [](const auto& m) -> const char* {
+          if constexpr (has_rates_v<std::decay_t<decltype(m)>>) return nullptr;
+          else return m.name;
+        },
+        l.normal);
+    if (name) return name;
+  }
+  return "";
+}
+
 bool LawTable::uniform() const {
   for (const auto& l : laws)
     if (l.normal.index() != laws.front().normal.index() || l.tangential.index() != laws.front().tangential.index())

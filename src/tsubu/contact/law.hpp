@@ -101,6 +101,9 @@ struct LawTable {
   bool uniform() const;
   // True when some law's normal model corrects positions (models P, F).
   bool corrects_positions() const;
+  // The name of a normal model in the table that has no rates (block steps cannot run it),
+  // or "" when every law has them.
+  std::string without_rates() const;
 };
 
 }  // namespace tsubu

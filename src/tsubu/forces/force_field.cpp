@@ -7,6 +7,7 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
+#include "tsubu/forces/gather.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
@@ -321,14 +322,13 @@ void ForceField::accumulate(World& world, double fluid_lead) {
   const int threads = threads_for(p.size());
   std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);
-  const Results& pr = pair_results_;
-  const Results& wr = wall_results_;
   for_each_thread(threads, [&](int t) {
     const auto [begin, end] = static_range(p.size(), t, threads);
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      Vec3 force = p.mass[i] * model_->gravity, torque, shift;
+      Gathered g;
+      g.force = p.mass[i] * model_->gravity;
       if (model_->fluid.enabled) {
         // The still fluid: per particle, at the velocity and spin of the step's end (see
         // compute()). The added mass is refreshed here too, so particles added at any time
@@ -337,30 +337,20 @@ void ForceField::accumulate(World& world, double fluid_lead) {
         Vec3 u = p.velocity[i], w = p.omega[i];
         if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
         const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, u, w, crowding(i));
-        force += fl.force;
-        torque += fl.torque;
+        g.force += fl.force;
+        g.torque += fl.torque;
         p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(d);
       }  // without a fluid it stays the grain mass that Particles::add set
+      gather<false>(world, i, g, nullptr);
       // Every pair is gathered by both its particles, so the largest overlap over the own
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.
-      int count = 0, own = 0;
-      double deepest = 0;
-      world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
-        const Results& r = side == 0 ? wr : pr;
-        if (side < 0) force -= r.entry[k].force_i;  // i is the pair's j
-        else force += r.entry[k].force_i;
-        torque += r.torque(k, p.radius[i]);
-        if (shifts_) shift += side < 0 ? r.shift_j[k] : r.shift_i[k];
-        (side < 0 ? count : own) += r.entry[k].delta > 0;
-        deepest = std::max(deepest, r.entry[k].delta);
-      });
-      local_worst = std::max(local_worst, deepest / (2.0 * p.radius[i]));
-      local_touching += static_cast<std::uint64_t>(own);  // each pair once, from its first particle
-      if (!std::isfinite(force.x + force.y + force.z)) local_worst = INFINITY;
-      p.force[i] = force;
-      p.torque[i] = torque;
-      p.contact_count[i] = count + own;
-      if (shifts_) p.position[i] = world.domain.wrap(p.position[i] + shift);  // model P's contact step
+      local_worst = std::max(local_worst, g.deepest / (2.0 * p.radius[i]));
+      local_touching += static_cast<std::uint64_t>(g.own);  // each pair once, from its first particle
+      if (!std::isfinite(g.force.x + g.force.y + g.force.z)) local_worst = INFINITY;
+      p.force[i] = g.force;
+      p.torque[i] = g.torque;
+      p.contact_count[i] = g.count + g.own;
+      if (shifts_) p.position[i] = world.domain.wrap(p.position[i] + g.shift);  // model P's contact step
     }
     worst[static_cast<std::size_t>(t)] = local_worst;
     touching[static_cast<std::size_t>(t)] = local_touching;

@@ -2,6 +2,7 @@
 // still fluid's forces (Model::fluid) and all pair and wall contacts (Model::laws).
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "tsubu/fluid/crowding.hpp"
@@ -73,6 +74,7 @@ class ForceField {
   // the integrator (they depend on the corrected velocity). A contact is evaluated once, from its first active
   // particle; its history advances by the time since the later of its particles' last
   // evaluations (their shared step). The lists are the stepper's to rebuild (rebuild_at).
+  // Throws std::invalid_argument when a law has no rates (LawTable::without_rates).
   void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                       const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out);
   // Block steps: the change of the active particles' contact forces and torques when the
@@ -176,6 +178,22 @@ class ForceField {
   void evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform);
   void evaluate_walls(World& world);
   void accumulate(World& world, double fluid_lead);
+  // What particle i gathers from its evaluated contacts, in ContactList::for_each_contact_of
+  // order (so the sums are the same bits for any thread count): force and torque (added to
+  // what `g` holds), the contact counts and the deepest overlap; for fixed steps the position
+  // corrections of models P and F; WithRates, also the forces' and torques' rates, the contacts'
+  // step bound, the dashpots' damping over mass and the contacts evaluated from i (is_active:
+  // a pair whose first particle is active was evaluated from it).
+  struct Gathered {
+    Vec3 force, torque, shift;
+    int count = 0, own = 0;  // touching contacts where i is the pair's second, first or a wall's particle
+    double deepest = 0;      // m
+    Vec3 force_rate, torque_rate;
+    double bound = std::numeric_limits<double>::infinity(), damping_over_mass = 0;
+    std::uint64_t evaluated = 0;
+  };
+  template <bool WithRates>
+  [[gnu::always_inline]] void gather(const World& world, std::size_t i, Gathered& g, const std::vector<char>* is_active) const;
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;
   // block_steps: the block-step evaluation (each particle's step dt/2^level, not dt).

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "tsubu/forces/force_field.hpp"
+#include "tsubu/forces/gather.hpp"
 #include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
 
@@ -33,6 +36,7 @@ double contact_step(const Normal& normal, const ContactStepRules& rules, double 
   return normal.collision_longer_than(m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
 }
 
+// The law's models, for a law with rates (compute_active refuses a table with another).
 template <class Visit>
 void visit_law(const PairLaw& law, Visit&& visit) {
   std::visit(
@@ -113,6 +117,8 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
+  if (const std::string model = model_->laws.without_rates(); !model.empty())
+    throw std::invalid_argument("the normal model " + model + " has no rates: block steps cannot evaluate it");
   Particles& p = world.particles;
   const ContactList& contacts = world.contacts;
   const auto& pairs = contacts.pairs();
@@ -146,37 +152,19 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
         return PointMotion{k.x, k.v};
       });
     });
-  // The gather, as in accumulate(), with the rates beside the values.
+  // The gather, as for fixed steps, with the rates beside the values.
   std::vector<double> worst(active.size(), 0.0);
   std::vector<std::uint64_t> touching(active.size(), 0);
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
     const double r = p.radius[i];
-    Vec3 force = p.mass[i] * model_->gravity, torque, force_rate, torque_rate;
+    Gathered g;
+    g.force = p.mass[i] * model_->gravity;
     // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
     // where the corrected velocity is known (see BlockHermite::correct).
     p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * r);
-    int count = 0, own = 0;
-    std::uint64_t evaluated = 0;
-    double deepest = 0, bound = kNever, damping_over_mass = 0;
-    contacts.for_each_contact_of(i, [&](std::uint32_t c, int side) {
-      const Results& res = side == 0 ? wall_results_ : pair_results_;
-      const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
-      const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
-      force += sign * res.entry[c].force_i;
-      force_rate += sign * rt.force_i;
-      torque += res.torque(c, r);
-      // d/dt of -(r - delta/2) (n x F_t)
-      torque_rate += (0.5 * rt.delta) * res.entry[c].n_x_ft - (r - 0.5 * res.entry[c].delta) * rt.n_x_ft;
-      (side < 0 ? count : own) += res.entry[c].delta > 0;
-      evaluated += res.entry[c].delta > 0 && (side >= 0 || !is_active[pairs[c].i]);  // once per contact
-      deepest = std::max(deepest, res.entry[c].delta);
-      bound = std::min(bound, rt.step_bound);
-      if (res.entry[c].delta > 0) {
-        const double m_j = side == 0 ? kNever : p.mass[side < 0 ? pairs[c].i : pairs[c].j];
-        damping_over_mass += rt.damping * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
-      }
-    });
+    gather<true>(world, i, g, &is_active);
+    double bound = g.bound;
     // The dashpots: the fastest decay rate of the dashpots around particle i is at most
     // (7/2) sum_c eta_c (1/m_i + 1/sqrt(m_i m_j)) (Gershgorin on M^-1/2 C M^-1/2: the dashpot
     // of contact c acts on the relative velocity of i and j, and along the contact plane it
@@ -185,14 +173,14 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     // of their relative sliding; with n contacts it grows n-fold. The Hermite corrector is
     // stable for a decay rate lambda while lambda h < 2.5 (amplification 1 + z + z^2/2 +
     // z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
-    if (damping_over_mass > 0) bound = std::min(bound, rules.eta_damping / (3.5 * damping_over_mass));
-    worst[q] = std::isfinite(force.x + force.y + force.z) ? deepest / (2.0 * r) : INFINITY;
-    touching[q] = evaluated;
-    p.force[i] = force;
-    p.torque[i] = torque;
-    p.contact_count[i] = count + own;
-    out.force[i] = force_rate;
-    out.torque[i] = torque_rate;
+    if (g.damping_over_mass > 0) bound = std::min(bound, rules.eta_damping / (3.5 * g.damping_over_mass));
+    worst[q] = std::isfinite(g.force.x + g.force.y + g.force.z) ? g.deepest / (2.0 * r) : INFINITY;
+    touching[q] = g.evaluated;
+    p.force[i] = g.force;
+    p.torque[i] = g.torque;
+    p.contact_count[i] = g.count + g.own;
+    out.force[i] = g.force_rate;
+    out.torque[i] = g.torque_rate;
     out.step_bound[i] = bound;
   });
   for (std::uint64_t c : touching) evaluations_ += c;

@@ -94,7 +94,7 @@ class ContactList {
   // visit(k, side) for particle i's entries in the gather's order: pairs where i is second
   // (side -1), pairs where it is first (+1), walls (0); each group in ascending k.
   template <class Visit>
-  void for_each_contact_of(std::size_t i, Visit&& visit) const {
+  [[gnu::always_inline]] void for_each_contact_of(std::size_t i, Visit&& visit) const {
     for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) visit(second_index_[s], -1);
     for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
     for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);

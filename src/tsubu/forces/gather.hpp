@@ -1,0 +1,44 @@
+// ForceField::gather, the one gather of both evaluations (fixed steps and block steps), for
+// the force field's own files: inlined into each loop over particles, so that the sums stay
+// in registers.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tsubu/forces/force_field.hpp"
+
+namespace tsubu {
+
+template <bool WithRates>
+inline void ForceField::gather(const World& world, std::size_t i, Gathered& g, const std::vector<char>* is_active) const {
+  const Particles& p = world.particles;
+  const double r = p.radius[i];
+  const auto& pairs = world.contacts.pairs();
+  // Listed pairs that do not touch hold zeros and are added without a test (no branch to miss).
+  world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
+    const Results& res = side == 0 ? wall_results_ : pair_results_;
+    const Results::Entry& e = res.entry[k];
+    if (side < 0) g.force -= e.force_i;  // i is the pair's j: the reaction
+    else g.force += e.force_i;
+    g.torque += res.torque(k, r);
+    (side < 0 ? g.count : g.own) += e.delta > 0;
+    g.deepest = std::max(g.deepest, e.delta);
+    if constexpr (!WithRates) {
+      if (shifts_) g.shift += side < 0 ? res.shift_j[k] : res.shift_i[k];
+    } else {
+      const Rates& rt = side == 0 ? wall_rates_[k] : pair_rates_[k];
+      if (side < 0) g.force_rate -= rt.force_i;
+      else g.force_rate += rt.force_i;
+      // d/dt of -(r - delta/2) (n x F_t)
+      g.torque_rate += (0.5 * rt.delta) * e.n_x_ft - (r - 0.5 * e.delta) * rt.n_x_ft;
+      g.evaluated += e.delta > 0 && (side >= 0 || !(*is_active)[pairs[k].i]);  // once per contact
+      g.bound = std::min(g.bound, rt.step_bound);
+      if (e.delta > 0) {
+        const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[side < 0 ? pairs[k].i : pairs[k].j];
+        g.damping_over_mass += rt.damping * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
+      }
+    }
+  });
+}
+}  // namespace tsubu
