@@ -89,7 +89,13 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
   shift_j.resize(shifts ? n : 0);
 }
 
+void ForceField::admit_new_particles(Particles& p) {
+  for (std::size_t i = admitted_; i < p.size(); ++i) p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * p.radius[i]);
+  admitted_ = p.size();
+}
+
 void ForceField::compute(World& world, double fluid_lead) {
+  admit_new_particles(world.particles);  // before a sort renumbers them
   shifts_ = model_->laws.corrects_positions();
   const std::int64_t sort_every = model_->search.sort_every;
   if (sort_every > 0 && world.step % sort_every == 0) sort(world);
@@ -331,16 +337,14 @@ void ForceField::accumulate(World& world, double fluid_lead) {
       g.force = p.mass[i] * model_->gravity;
       if (model_->fluid.enabled) {
         // The still fluid: per particle, at the velocity and spin of the step's end (see
-        // compute()). The added mass is refreshed here too, so particles added at any time
-        // get it.
+        // compute()).
         const double d = 2 * p.radius[i];
         Vec3 u = p.velocity[i], w = p.omega[i];
         if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
         const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, u, w, crowding(i));
         g.force += fl.force;
         g.torque += fl.torque;
-        p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(d);
-      }  // without a fluid it stays the grain mass that Particles::add set
+      }
       gather<false>(world, i, g, nullptr);
       // Every pair is gathered by both its particles, so the largest overlap over the own
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.

@@ -88,6 +88,12 @@ class ForceField {
   // within skin + reach[i] (+ reach of the partner) of touching; valid while each particle
   // stays within reach[i] + skin/2 of its position here.
   void rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach);
+  // The particles appended to `p` since the last call (every particle at the first call) get
+  // their translational mass m + C_M rho_f V, the inertia the integrators divide forces by
+  // (Particles::translational_mass; Fluid::added_mass_of): the one place it is set. compute()
+  // and compute_active() call it first; whoever adds particles between steps calls it
+  // before the next kick.
+  void admit_new_particles(Particles& p);
   // Renumbers the particles along a space-filling curve (sort_spatially) and returns
   // order[new] = old; the lists are rebuilt at the next evaluation.
   std::vector<std::uint32_t> sort(World& world);
@@ -155,6 +161,7 @@ class ForceField {
   bool shifts_ = false;         // some law corrects positions
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
   double skin_ = 0;
+  std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
 
   bool needs_rebuild(const World& world) const;

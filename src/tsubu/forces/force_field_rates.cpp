@@ -120,6 +120,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   if (const std::string model = model_->laws.without_rates(); !model.empty())
     throw std::invalid_argument("the normal model " + model + " has no rates: block steps cannot evaluate it");
   Particles& p = world.particles;
+  admit_new_particles(p);
   const ContactList& contacts = world.contacts;
   const auto& pairs = contacts.pairs();
   const auto& walls = contacts.walls();
@@ -162,7 +163,6 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     g.force = p.mass[i] * model_->gravity;
     // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
     // where the corrected velocity is known (see BlockHermite::correct).
-    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * r);
     gather<true>(world, i, g, &is_active);
     double bound = g.bound;
     // The dashpots: the fastest decay rate of the dashpots around particle i is at most

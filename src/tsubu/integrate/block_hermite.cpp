@@ -141,8 +141,8 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
   is_active_.resize(n, 0);
   slot_.resize(n, UINT32_MAX);
   std::vector<std::uint32_t> fresh;
+  forces.admit_new_particles(p);
   for (std::size_t i = first; i < n; ++i) {
-    p.translational_mass[i] = p.mass[i] + forces.model().fluid.added_mass_of(2 * p.radius[i]);
     state_.time[i] = now;
     fresh.push_back(static_cast<std::uint32_t>(i));
     is_active_[i] = 1;

@@ -27,10 +27,10 @@ void Simulation::particles_added(std::size_t first) {
     return;
   }
   Particles& p = world_.particles;
+  forces_.admit_new_particles(p);
   for (std::size_t i = first; i < p.size(); ++i) {
     const double d = 2 * p.radius[i];
     const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, p.velocity[i], p.omega[i]);
-    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(d);
     p.force[i] = p.mass[i] * model_->gravity + fl.force;
     p.torque[i] = fl.torque;
     p.contact_count[i] = 0;

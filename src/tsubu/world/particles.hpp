@@ -15,7 +15,7 @@ struct Particles {
   std::vector<double> mass;           // kg
   std::vector<double> translational_mass;  // kg, mass + the fluid's added mass C_M rho_f V: the
                                            // inertia the integrators divide forces by (set by
-                                           // ForceField::compute from Model::fluid)
+                                           // ForceField::admit_new_particles from Model::fluid)
   std::vector<double> inertia;        // kg m^2, solid sphere: 2/5 m R^2
   std::vector<Vec3> position;         // m
   std::vector<Vec3> velocity;         // m/s
