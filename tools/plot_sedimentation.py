@@ -14,8 +14,10 @@ docs/validation of the repository):
     sedimentation-flux.png         porosity against the flux Q/Q_0, water and vacuum (Fig. 6)
     sedimentation-finite-size.png  porosity and Z against the box size L/d
     sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7),
-                                   a panel per friction law, at rest and by the paper's
+                                   a panel per friction law at Q_0, at rest and by the paper's
                                    protocol, with the frictionless deposits and Desmond & Weeks
+    sedimentation-fig7-flux.png    porosity of the mixtures at rest against the flux Q/Q_0,
+                                   a panel per friction law, a line per spread and S
     sedimentation-fig8.png         segregation Gamma of the two layers against time (Fig. 8)
     sedimentation-hindered.png     porosity with and without hindered settling
     sedimentation.csv              one row per case of every sweep present
@@ -333,7 +335,7 @@ def plot_fig7(sweeps, png):
     a line per S; dashed, the same runs measured by the paper's protocol; dotted, Wu & Wang for
     each mixture's d50 by mass; dash-dot, the frictionless deposits at rest; grey, Desmond &
     Weeks' random close packing of S = 0. False without data."""
-    cases = fig7_cases(sweeps)
+    cases = [c for c in fig7_cases(sweeps) if c["Q_over_Q0"] == 1]
     if not cases:
         return False
     stop = fig7_cases(sweeps, "stop")
@@ -364,6 +366,36 @@ def plot_fig7(sweeps, png):
     axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L")
     axes[0][0].legend(fontsize="x-small")
     save(fig, png, f"Talbot mixtures, d_max = 1 cm, {box_label(cases)}, at rest; "
+                   "error bars: standard error of the mean over the seeds")
+    return True
+
+
+def plot_fig7_flux(sweeps, png):
+    """The mixtures at rest against the flux: porosity against Q/Q_0, a panel per friction
+    law, a colour per spread Sigma and a marker per S (lines only where a mixture has more
+    than one flux). False without a mixture at two fluxes."""
+    cases = fig7_cases(sweeps)
+    mixtures = [g for _, g in by(cases, "law", "Sigma", "S") if len({c["Q_over_Q0"] for c in g}) > 1]
+    if not mixtures:
+        return False
+    laws = sorted({g[0]["law"] for g in mixtures})
+    spreads = sorted({g[0]["Sigma"] for g in mixtures})
+    fig, axes = plt.subplots(1, len(laws), figsize=(5 * len(laws) + 1, 4.8), sharey=True, layout="constrained",
+                             squeeze=False)
+    for ax, law in zip(axes[0], laws):
+        for g in (g for g in mixtures if g[0]["law"] == law):
+            spread, exponent = g[0]["Sigma"], g[0]["S"]
+            points = [(q, *over_seeds(h, "porosity")) for (q,), h in by(g, "Q_over_Q0")]
+            q, porosity, error = zip(*points)
+            ax.errorbar(q, porosity, yerr=bars(error), marker="osD"[int(exponent) % 3], capsize=3,
+                        color=f"C{spreads.index(spread)}", label=f"Σ = {spread:.2f}, S = {exponent:g}")
+        ax.set_xscale("log")
+        ax.set_title(f"friction law {law}", fontsize="medium")
+        ax.set_xlabel("flux Q/Q0")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="x-small")
+    axes[0][0].set_ylabel("porosity of 0.15 L < z < 0.35 L, at rest")
+    save(fig, png, f"Talbot mixtures at rest against the flux, d_max = 1 cm, {box_label(cases)}; "
                    "error bars: standard error of the mean over the seeds")
     return True
 
@@ -558,6 +590,7 @@ def main():
                ("sedimentation-flux.png", plot_flux, "fig5-6 or vacuum"),
                ("sedimentation-finite-size.png", plot_finite_size, "finite-size"),
                ("sedimentation-fig7.png", plot_fig7, "fig7-rest"),
+               ("sedimentation-fig7-flux.png", plot_fig7_flux, "fig7-rest at two fluxes"),
                ("sedimentation-fig8.png", plot_fig8, "fig8"),
                ("sedimentation-hindered.png", plot_hindered, "fig5-6-hindered or fig7-hindered"))
     for name, draw, needs in figures:

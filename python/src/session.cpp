@@ -5,19 +5,12 @@
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/io/checked_file.hpp"
-#include "tsubu/source/build_world.hpp"
 
 namespace tsubu::python {
 
 Session::Session(Scenario scenario, Simulation sim) : scenario_(std::move(scenario)), sim_(std::move(sim)) {}
 
-Session::Session(Scenario scenario)
-    : scenario_(std::move(scenario)), sim_(build_world(scenario_), build_model(scenario_), scenario_.integrator, scenario_.block_steps) {
-  if (const ParticleSource* src = inflow_source(scenario_))
-    inflow_.emplace(scenario_, *src, static_cast<std::int64_t>(sim_.world().particles.size()));
-  sim_.start();
-  if (inflow_) inflow_->admit(sim_);
-}
+Session::Session(Scenario scenario) : scenario_(std::move(scenario)), sim_(new_simulation(scenario_)) { sim_.start(); }
 
 Session Session::resume(const std::filesystem::path& file_or_dir) {
   namespace fs = std::filesystem;
@@ -30,14 +23,7 @@ Session Session::resume(const std::filesystem::path& file_or_dir) {
     c = read_checkpoint(file_or_dir);
   }
   Scenario sc = scenario_of(c, used);
-  const ParticleSource* src = inflow_source(sc);
-  if (src && !c.inflow.present) throw std::runtime_error(used.string() + ": lacks the state of the scenario's inflow");
-  Session s(sc, restore_simulation(sc, c, used));
-  if (src) {
-    s.inflow_.emplace(s.scenario_, *inflow_source(s.scenario_), c.inflow.first_id);
-    s.inflow_->restore(c.inflow.state);
-  }
-  return s;
+  return Session(sc, restore_simulation(sc, c, used));
 }
 
 void Session::advance_to_step(std::int64_t target, const std::function<bool()>& go_on) {
@@ -49,7 +35,6 @@ void Session::advance_to_step(std::int64_t target, const std::function<bool()>& 
   try {
     while (world().step < target) {
       sim_.step();
-      if (inflow_) inflow_->admit(sim_);
       if (!go_on()) return;
     }
   } catch (const NumericalError& e) {
@@ -64,7 +49,7 @@ bool Session::contacts_evaluated() const {
 
 void Session::checkpoint(const std::filesystem::path& file) {
   Checkpoint c;
-  store_simulation(scenario_, sim_, inflow_ ? &*inflow_ : nullptr, c);
+  store_simulation(scenario_, sim_, c);
   with_state_lent(sim_, c, [&] { write_file_atomically(file, encode_checkpoint(c)); });
 }
 

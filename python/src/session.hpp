@@ -42,7 +42,7 @@ class Session {
   const World& world() const { return sim_.world(); }
   const Model& model() const { return sim_.model(); }
   // The particle count can change between steps (grains enter): arrays are copied, not viewed.
-  bool has_inflow() const { return inflow_.has_value(); }
+  bool has_inflow() const { return sim_.inflow() != nullptr; }
   // Whether the force field's per-contact results belong to the current contact lists: not
   // after a resume until the next step (a checkpoint stores forces, not contact results).
   bool contacts_evaluated() const;
@@ -54,7 +54,6 @@ class Session {
   Session(Scenario scenario, Simulation sim);
   Scenario scenario_;
   Simulation sim_;
-  std::optional<InflowFeed> inflow_;
   std::string failure_;  // the NumericalError that stopped the run, if one did
 };
 

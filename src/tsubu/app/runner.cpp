@@ -156,14 +156,9 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const fs::path ckpt_dir = fs::path(out_dir) / "checkpoint";
   RunSummary summary;
   summary.particles = world.particles.size();
-  // The inflow's grains enter at step boundaries; the analyses give series.csv columns, the
-  // results and the values the [[stop]] conditions watch.
-  std::optional<InflowFeed> inflow;
-  if (const ParticleSource* src = inflow_source(sc)) {
-    if (from && !from->inflow.present) throw std::runtime_error("the checkpoint lacks the state of the scenario's inflow");
-    inflow.emplace(sc, *src, from ? from->inflow.first_id : static_cast<std::int64_t>(world.particles.size()));
-    if (from) inflow->restore(from->inflow.state);
-  }
+  // The inflow's grains enter at step boundaries (Simulation::step); the analyses give
+  // series.csv columns, the results and the values the [[stop]] conditions watch.
+  const InflowFeed* inflow = sim.inflow();
   AnalysisMonitor monitor(sc.analyses, sc.stops);
   std::string stop_reason;  // set by the first series row that meets a [[stop]] condition
 
@@ -282,7 +277,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     require_finite_energies(world, model.gravity, forces.totals(world).elastic_energy);  // only good states are kept
     flush_rows();
     Checkpoint c;
-    store_simulation(sc, sim, inflow ? &*inflow : nullptr, c);
+    store_simulation(sc, sim, c);
     c.run_id = run_id;
     c.energy_watch = energy_watch.state();
     c.wall_seconds = wall_before + elapsed();
@@ -337,7 +332,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   try {
     if (!from) {
       sim.start();
-      if (inflow) inflow->admit(sim);
       write_series();
       write_track();
       if (vtk_every) write_frame();
@@ -355,7 +349,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const auto loop_start = std::chrono::steady_clock::now();
     for (std::int64_t s = loop_first; s <= steps && stop_reason.empty(); ++s) {
       sim.step();
-      if (inflow) inflow->admit(sim);
       summary.loop_steps = s - loop_first + 1;
       summary.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % series_every == 0 || s == steps) write_series();
@@ -508,7 +501,7 @@ void refuse_losing_rows(const Scenario& sc, const Checkpoint& c, const std::file
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
-  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // bad input is reported before the folder is touched
+  Simulation sim = new_simulation(sc);  // bad input is reported before the folder is touched
   for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
   const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
   return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);

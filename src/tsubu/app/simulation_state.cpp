@@ -11,7 +11,7 @@
 
 namespace tsubu {
 
-void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c) {
+void store_simulation(const Scenario& sc, const Simulation& sim, Checkpoint& c) {
   c.engine_version = kVersion;
   c.scenario_path = sc.file;
   c.scenario_text = sc.text;
@@ -34,7 +34,14 @@ void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFee
   c.wall_points.clear();
   c.wall_velocities.clear();
   for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
-  if (inflow) c.inflow = {true, inflow->first_id(), inflow->state()};
+  if (const InflowFeed* inflow = sim.inflow()) c.inflow = {true, inflow->first_id(), inflow->state()};
+}
+
+Simulation new_simulation(const Scenario& sc) {
+  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // bad input is reported here
+  if (const ParticleSource* src = inflow_source(sc))
+    sim.feed(InflowFeed(sc, *src, static_cast<std::int64_t>(sim.world().particles.size())));
+  return sim;
 }
 
 void with_state_lent(Simulation& sim, Checkpoint& c, const std::function<void()>& write) {
@@ -103,6 +110,12 @@ Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::file
     throw std::runtime_error(used.string() + ": holds a block-step state, but the scenario is not a block-step run");
   }
   sim.forces().restore_counters(c.evaluations, c.rebuilds);
+  if (const ParticleSource* src = inflow_source(sc)) {
+    if (!c.inflow.present) throw std::runtime_error(used.string() + ": lacks the state of the scenario's inflow");
+    InflowFeed inflow(sc, *src, c.inflow.first_id);
+    inflow.restore(c.inflow.state);
+    sim.feed(std::move(inflow));
+  }
   return sim;
 }
 

@@ -16,7 +16,11 @@ namespace tsubu {
 // clock, force counters, walls and block-step state, and the inflow's stream (if any). The
 // particles and contact lists are not copied (with_state_lent); the driver adds its own
 // (run id, outputs, energy watch).
-void store_simulation(const Scenario& sc, const Simulation& sim, const InflowFeed* inflow, Checkpoint& c);
+void store_simulation(const Scenario& sc, const Simulation& sim, Checkpoint& c);
+
+// A fresh run of sc, not yet started: the world its sources make, its model, and its inflow
+// (if any) fed in.
+Simulation new_simulation(const Scenario& sc);
 
 // Runs `write` with sim's particles and contact lists lent to c (moved in, not copied: a copy
 // of a large run's state would double its peak memory) and given back whatever happens.
@@ -41,9 +45,10 @@ Checkpoint read_newest_checkpoint(const std::filesystem::path& dir, std::filesys
 Scenario scenario_of(const Checkpoint& c, const std::filesystem::path& used);
 
 // The Simulation of checkpoint c (file `used`, for messages) under scenario sc, taking c's
-// particles and contact lists. Fixed steps: the lists are rebuilt from the stored contacts
-// at the next step and the forces are those stored (not recomputed). Block steps: the lists
-// as they were, from the stored build positions.
+// particles and contact lists, with the scenario's inflow fed in where it stood. Fixed
+// steps: the lists are rebuilt from the stored contacts at the next step and the forces are
+// those stored (not recomputed). Block steps: the lists as they were, from the stored build
+// positions.
 Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::filesystem::path& used);
 
 }  // namespace tsubu

@@ -9,12 +9,7 @@ namespace tsubu {
 InflowFeed::InflowFeed(const Scenario& sc, const ParticleSource& src, std::int64_t first_id)
     : stream_(inflow_column(sc, src), sc.seed), material_(src.material), first_id_(first_id) {}
 
-void InflowFeed::admit(Simulation& sim) {
-  World& w = sim.world();
-  const std::size_t first = w.particles.size();
-  admit_due(stream_, w.time, w.domain, w.particles, material_, first_id_);
-  if (w.particles.size() > first) sim.particles_added(first);
-}
+void InflowFeed::admit(World& w) { admit_due(stream_, w.time, w.domain, w.particles, material_, first_id_); }
 
 double InflowFeed::mass_entered(const World& w) const {
   double mass = 0;

@@ -1,7 +1,8 @@
-// The scenario's inflow (source = "inflow") fed into a Simulation: at every step boundary
-// the grains due by then enter the box (source/inflow.hpp, admit_due) and join the run
-// (Simulation::particles_added). Its grains get the ids first_id, first_id + 1, ... in the
-// order the column releases them (first_id = the particles the other sources made).
+// The scenario's inflow (source = "inflow"), fed into a Simulation (Simulation::feed): at
+// every step boundary the grains due by then enter the box (source/inflow.hpp, admit_due)
+// and the Simulation makes them join the run. Its grains get the ids first_id,
+// first_id + 1, ... in the order the column releases them (first_id = the particles the
+// other sources made).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -10,8 +11,8 @@
 #include <vector>
 
 #include "tsubu/scenario/scenario.hpp"
-#include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/inflow.hpp"
+#include "tsubu/world/world.hpp"
 
 namespace tsubu {
 
@@ -19,9 +20,9 @@ class InflowFeed {
  public:
   InflowFeed(const Scenario& sc, const ParticleSource& src, std::int64_t first_id);
 
-  // The grains due at sim's time enter (those that find their place taken wait); call
-  // between steps only (at multiples of dt).
-  void admit(Simulation& sim);
+  // The grains due at w's time are appended to its particles (those that find their place
+  // taken wait); between steps only (at multiples of dt).
+  void admit(World& w);
 
   std::int64_t first_id() const { return first_id_; }
   // The stream has released its last grain (its mass limit reached, none waiting).

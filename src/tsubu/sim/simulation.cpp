@@ -10,11 +10,20 @@ Simulation::Simulation(World world, Model model, Integrator integrator, const Bl
 void Simulation::start() {
   if (block_) block_->start(world_, forces_);
   else forces_.compute(world_);
+  admit_inflow();
 }
 
 void Simulation::step() {
   if (block_) block_->advance(world_, forces_);
   else advance(integrator_, world_, forces_);
+  admit_inflow();
+}
+
+void Simulation::admit_inflow() {
+  if (!inflow_) return;
+  const std::size_t first = world_.particles.size();
+  inflow_->admit(world_);
+  if (world_.particles.size() > first) particles_added(first);
 }
 
 void Simulation::advance_to(std::int64_t step) {

@@ -4,10 +4,12 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -17,10 +19,17 @@ class Simulation {
   // `world` at its start (step 0, forces not yet evaluated) or restored from a checkpoint.
   Simulation(World world, Model model, Integrator integrator, const BlockStepRules& block_steps);
 
-  // A fresh run: the first force evaluation (and, for block steps, the first steps).
+  // The scenario's inflow, fed from now on: after start() and after every step the grains
+  // due by then enter and join the run (particles_added).
+  void feed(InflowFeed inflow) { inflow_.emplace(std::move(inflow)); }
+  const InflowFeed* inflow() const { return inflow_ ? &*inflow_ : nullptr; }
+
+  // A fresh run: the first force evaluation (and, for block steps, the first steps); then
+  // the inflow's first grains enter.
   void start();
   // One step of dt: one fixed step, or for block steps every block time up to the next
-  // multiple of dt (where every particle's time is the same).
+  // multiple of dt (where every particle's time is the same); then the inflow's grains due
+  // enter.
   void step();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);
@@ -49,6 +58,9 @@ class Simulation {
   ForceField forces_{*model_};
   Integrator integrator_;
   std::unique_ptr<BlockHermite> block_;
+  std::optional<InflowFeed> inflow_;
+
+  void admit_inflow();
 };
 
 }  // namespace tsubu
