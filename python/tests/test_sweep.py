@@ -267,6 +267,31 @@ def test_only_selects_cases(grid_run, tmp_path):
     assert [row["status"] for row in results(out).values()] == ["ok"] * 4, "results.csv keeps the cases left out"
 
 
+def test_only_that_matches_no_case_lists_the_values(tmp_path):
+    """--only with a value no case has ended "0 of 0 cases finished", exit 0."""
+    file = write_sweep(tmp_path / "grid.toml", tmp_path / "out")
+    done = sweep(file, "--only", "simulation.seed=5")
+    assert done.returncode == 2 and not (tmp_path / "out").exists()
+    assert done.stderr == "error: --only simulation.seed=5: no case matches; simulation.seed takes 3, 4\n"
+    done = sweep(file, "--dry-run", "--only", "simulation.seed=4", "--only", "particles.0.solid_fraction=0.2")
+    assert done.returncode == 2 and done.stderr == (
+        "error: --only simulation.seed=4 particles.0.solid_fraction=0.2: no case matches; simulation.seed takes 3, 4;"
+        " particles.0.solid_fraction takes 0.1, 0.05\n")
+
+
+def test_a_tsubu_that_is_not_an_executable_is_refused(tmp_path):
+    """--tsubu or $TSUBU_BINARY naming no executable ran the build's tsubu instead."""
+    file = write_sweep(tmp_path / "grid.toml", tmp_path / "out")
+    missing = tmp_path / "no-tsubu"
+    done = sweep(file, "--tsubu", missing)
+    assert done.returncode == 2 and not (tmp_path / "out").exists()
+    assert done.stderr == (f"error: --tsubu {missing}: names no executable file (nor a command on the PATH); "
+                           "give the path of tsubu, e.g. build/tsubu\n")
+    done = subprocess.run([sys.executable, "-m", "tsubu.sweep", str(file), "--dry-run"],
+                          env={**ENV, "TSUBU_BINARY": str(SCENARIO)}, capture_output=True, text=True)
+    assert done.returncode == 2 and done.stderr.startswith(f"error: TSUBU_BINARY {SCENARIO}: names no executable file")
+
+
 @pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7-rest", 288), ("fig7-stop", 288), ("fig8", 2),
                                          ("finite-size", 9), ("rcp", 24), ("fig7-hindered", 36), ("vacuum", 9)])
 def test_example_sweeps_dry_run(tmp_path, name, count):

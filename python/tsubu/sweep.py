@@ -245,11 +245,19 @@ def load_sweep(sweep):
 
 
 def find_tsubu(tsubu=None):
-    """The tsubu executable: the argument, else $TSUBU_BINARY, else `tsubu` on the PATH, else the
-    build's tsubu: beside build/python when the package is imported from the build (as the
-    set-up installs it), or the repository's build/tsubu when imported from python/."""
+    """The tsubu executable: the argument, else $TSUBU_BINARY (either must name an executable:
+    SweepError otherwise), else `tsubu` on the PATH, else the build's tsubu: beside build/python
+    when the package is imported from the build (as the set-up installs it), or the
+    repository's build/tsubu when imported from python/."""
+    for given, source in ((tsubu, "--tsubu"), (os.environ.get("TSUBU_BINARY"), "TSUBU_BINARY")):
+        if given:
+            found = shutil.which(given)
+            if not found:
+                raise SweepError(f"{source} {given}: names no executable file (nor a command on the PATH); "
+                                 "give the path of tsubu, e.g. build/tsubu")
+            return Path(found).resolve()
     here = Path(__file__).resolve().parents[2]
-    candidates = [tsubu, os.environ.get("TSUBU_BINARY"), shutil.which("tsubu"), here / "tsubu", here / "build" / "tsubu"]
+    candidates = [shutil.which("tsubu"), here / "tsubu", here / "build" / "tsubu"]
     for c in candidates:
         if c and Path(c).is_file() and os.access(c, os.X_OK):
             return Path(c).resolve()
@@ -344,12 +352,13 @@ def write_results(sweep, path):
             out.writerow(row)
         f.flush()
         os.fsync(f.fileno())
-    os.replace(tmp, path)
+        os.replace(tmp, path)
 
 
 def select_cases(cases, only):
     """The cases whose parameters match every "KEY=VALUE" of `only` (VALUE in TOML, as the
-    sweep file writes it: particles.0.solid_fraction=0.1)."""
+    sweep file writes it: particles.0.solid_fraction=0.1); SweepError when none does, listing
+    the values each key takes."""
     wanted = {}
     for item in only or ():
         key, sep, text = item.partition("=")
@@ -363,7 +372,13 @@ def select_cases(cases, only):
     for key in wanted:
         if key not in known:
             raise SweepError(f"--only {key}: not a parameter of this sweep (its parameters: {', '.join(known)})")
-    return [c for c in cases if all(key in c.params and c.params[key] == v for key, v in wanted.items())]
+    chosen = [c for c in cases if all(key in c.params and c.params[key] == v for key, v in wanted.items())]
+    if wanted and not chosen:
+        def values(key):
+            return ", ".join(dict.fromkeys(toml_value(c.params[key]) for c in cases if key in c.params))
+        raise SweepError(f"--only {' '.join(only)}: no case matches; "
+                         + "; ".join(f"{key} takes {values(key)}" for key in wanted))
+    return chosen
 
 
 def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr, only=None):

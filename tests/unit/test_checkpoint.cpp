@@ -513,7 +513,8 @@ TEST(Resume, SetDurationKeepsIntervalsThatFollowFromTheDuration) {
 }
 
 // Keys that could change the past are refused, naming the --set (exit 2); so is a duration
-// the run has already passed and a value that is not one; the run's folder is left as it was.
+// the run has already passed and a value that is not one, and a key the scenario does not know
+// is named unknown; the run's folder is left as it was.
 TEST(Resume, SetRefusesKeysThatChangeThePast) {
   TempDir dir;
   const fs::path out = dir.path() / "out";
@@ -526,6 +527,9 @@ TEST(Resume, SetRefusesKeysThatChangeThePast) {
       {"simulation.duration=0.001",
        "--set simulation.duration=0.001:1: simulation.duration: cannot change on resume: the run is already at step 400"},
       {"simulation.duration=\"long\"", "--set simulation.duration=\"long\":1: simulation.duration: "},
+      // A key the scenario does not know is unknown, not one that cannot change.
+      {"simulation.bogus=1", "--set simulation.bogus=1:1: simulation.bogus: unknown key; allowed here: "},
+      {"simulation.duraton=1", "--set simulation.duraton=1:1: simulation.duraton: unknown key (did you mean 'duration'?)"},
   };
   for (const auto& [set, message] : cases) {
     const fs::path log = dir.path() / "resume.log";

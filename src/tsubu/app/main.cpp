@@ -133,6 +133,8 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed() || resume->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
     if (exporter->parsed()) {
+      if (at->count() && !std::isfinite(export_at))
+        throw tsubu::UsageError("--at " + at->as<std::string>() + ": must be a time in seconds, a finite number");
       const tsubu::ExportedState e = tsubu::export_checkpoint(
           export_dir, at->count() ? std::optional<double>(export_at) : std::nullopt,
           export_to.empty() ? std::filesystem::path(export_dir) / "export" : std::filesystem::path(export_to));

@@ -444,15 +444,16 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
   auto is_set = [&](std::string_view key) {
     return std::any_of(sets.begin(), sets.end(), [&](const std::string& set) { return key_of(set) == key; });
   };
+  std::vector<std::string> overrides = run.overrides;
+  overrides.insert(overrides.end(), sets.begin(), sets.end());
+  // Loaded first: a key the scenario does not know, or a bad value, is reported as such.
+  const Scenario changed = load_scenario_text(run.text, run.file, overrides, false);
   for (const std::string& set : sets)
     if (std::find(kResumeKeys.begin(), kResumeKeys.end(), key_of(set)) == kResumeKeys.end())
       throw InputError("--set " + set, 1, key_of(set),
                        "cannot change on resume: it could change the steps already taken or the outputs already "
                        "written; a resume may set simulation.duration, output.series_interval, output.vtk_interval, "
                        "output.track_interval, output.checkpoint_every_steps and output.checkpoint_every_seconds");
-  std::vector<std::string> overrides = run.overrides;
-  overrides.insert(overrides.end(), sets.begin(), sets.end());
-  const Scenario changed = load_scenario_text(run.text, run.file, overrides, false);
   std::vector<std::string> pins;
   auto pin = [&](const char* key, double was, double now) {
     char text[64];
