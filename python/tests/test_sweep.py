@@ -1,6 +1,7 @@
 """tsubu.sweep: a 2 x 2 grid of small inflow runs with 2 jobs, skipping, resuming after a kill
 and after Ctrl-C, failed cases, and bad sweep files (about half a minute in all)."""
 import csv
+import errno
 import json
 import os
 import re
@@ -13,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+import tsubu.sweep
+from tsubu.runs import lock_holder, read_table
 from tsubu.sweep import SweepError, load_sweep, run_sweep, toml_value
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -74,6 +77,9 @@ def test_grid_runs_every_case(grid_run):
         assert float(row["porosity"]) == summary["results"]["porosity"]
         seed, phi = int(row["simulation.seed"]), float(row["particles.0.solid_fraction"])
         assert name == f"solid_fraction={phi},seed={seed}" and summary["results"]["inflow_phi_0"] == phi
+    read = read_table(out / "results.csv")  # the sweep's own table, text columns and all
+    assert sorted(read["case"]) == sorted(CASES) and read["steps"].tolist() == [20000] * 4
+    assert read["porosity"].tolist() == [float(table[name]["porosity"]) for name in read["case"]]
     assert "sweep: 4 of 4 cases finished" in done.stderr
     assert re.search(r"sweep: 4 done, 0 running, 0 left, 0 failed; elapsed \S+, ETA 0s", done.stderr)
     assert "2 running" in done.stderr  # two at a time
@@ -216,6 +222,35 @@ def test_api_takes_a_dict(tmp_path, capsys):
     assert [c.name for c in cases] == ["duration=0.01", "duration=0.02"]
     assert [c.status for c in cases] == ["ok", "ok"] and cases[1].summary["steps"] == 1000
     assert sorted(results(tmp_path / "out")) == ["duration=0.01", "duration=0.02"]
+
+
+def test_a_full_disk_stops_the_runs_with_a_checkpoint(tmp_path, monkeypatch, capsys):
+    """results.csv cannot be written once the first case ends (a full disk): the sweep died in
+    a traceback, left results.csv.tmp and the other run running."""
+    out = tmp_path / "out"
+    file = tmp_path / "full.toml"
+    file.write_text(f'scenario = "{SCENARIO}"\noutput = "{out}"\njobs = 2\n'
+                    '[set]\n"simulation.dt" = 1e-6\n"output.vtk_interval" = 0\n'
+                    '[[cases]]\n"simulation.duration" = 0.002\n[[cases]]\n"simulation.duration" = 100\n')
+    real_fsync, calls = os.fsync, []
+
+    def fsync(fd):  # results.csv's second write (after a case) finds the disk full
+        calls.append(fd)
+        if len(calls) > 1:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real_fsync(fd)
+
+    monkeypatch.setattr(tsubu.sweep.os, "fsync", fsync)
+    assert tsubu.sweep.main([str(file), "--tsubu", TSUBU]) == 5
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        f"error: cannot write {out / 'results.csv'}: No space left on device; 1 run under way stopped with a "
+        "checkpoint; make room, then run the same command again to continue")
+    assert not (out / "results.csv.tmp").exists()
+    assert [row["status"] for row in results(out).values()] == ["pending", "pending"]  # the last good one
+    long = out / "duration=100"
+    assert lock_holder(long) is None, "a run was left running"
+    assert json.loads((long / "run.json").read_text())["status"] == "interrupted"
+    assert list((long / "checkpoint").glob("step_*.tsbk"))
 
 
 @pytest.mark.parametrize("text, message", [

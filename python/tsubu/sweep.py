@@ -12,9 +12,11 @@ are written to OUTPUT/results.csv. Ctrl-C (or SIGTERM) asks the runs to stop wit
 checkpoint; re-running continues them. The format and the command: docs/sweeps.md.
 
 Exit codes: 0 every case finished, 1 a case failed, 2 a bad sweep file or command line,
-4 interrupted.
+4 interrupted, 5 a file of the sweep could not be written (the runs were stopped with a
+checkpoint).
 """
 import argparse
+import contextlib
 import csv
 import fcntl
 import itertools
@@ -32,15 +34,35 @@ import time
 import tomllib
 from pathlib import Path
 
-__all__ = ["SweepError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
+from .runs import lock_holder
+
+__all__ = ["SweepError", "SweepWriteError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
 
 INTERRUPTED = 4
+WRITE_FAILED = 5  # as tsubu's own exit code for an output it cannot write
 SWEEP_LOCK = ".tsubu-sweep-lock"  # in the output root, held by the sweep running there
-RUN_LOCK = ".tsubu-lock"  # in a case's folder, held by the tsubu running there (io/output_dir.hpp)
 
 
 class SweepError(ValueError):
     """A bad sweep file: `file: key: what is wrong`."""
+
+
+class SweepWriteError(OSError):
+    """A file of the sweep (results.csv, a log, the lock) could not be written:
+    `cannot write FILE: reason`. The runs under way were stopped with a checkpoint."""
+
+
+@contextlib.contextmanager
+def _writing(path, partial=None):
+    """Turns an OSError while writing `path` into a SweepWriteError naming it; the file
+    `partial` (a temporary one being written) is removed then."""
+    try:
+        yield
+    except OSError as e:
+        if partial:
+            with contextlib.suppress(OSError):
+                partial.unlink(missing_ok=True)
+        raise SweepWriteError(f"cannot write {path}: {e.strerror or e}") from None
 
 
 class Case:
@@ -301,7 +323,8 @@ def _holder_text():
 def _lock_output(output):
     """Holds OUTPUT/.tsubu-sweep-lock (flock, released however the sweep ends) and returns its
     file; a folder another sweep holds raises SweepError naming the holder."""
-    lock = open(output / SWEEP_LOCK, "a+")
+    with _writing(output / SWEEP_LOCK):
+        lock = open(output / SWEEP_LOCK, "a+")
     try:
         fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
@@ -310,36 +333,22 @@ def _lock_output(output):
         lock.close()
         raise SweepError(f"{output}: in use by another sweep ({holder}); wait for it to end or choose another "
                          "output folder") from None
-    lock.seek(0)
-    lock.truncate()
-    lock.write(_holder_text() + "\n")
-    lock.flush()
+    with _writing(output / SWEEP_LOCK):
+        lock.seek(0)
+        lock.truncate()
+        lock.write(_holder_text() + "\n")
+        lock.flush()
     return lock
 
 
-def _held_elsewhere(folder):
-    """The holder of a case folder's tsubu lock when a tsubu runs there (a run of an earlier,
-    killed sweep), else None."""
-    try:
-        fd = os.open(folder / RUN_LOCK, os.O_RDONLY)
-    except FileNotFoundError:
-        return None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-        return None
-    except BlockingIOError:
-        return Path(folder / RUN_LOCK).read_text(errors="replace").strip() or "holder unknown"
-    finally:
-        os.close(fd)  # releases the shared lock at once
-
-
 def write_results(sweep, path):
-    """results.csv: one row per case, parameters, status, timing and run.json's results."""
+    """results.csv: one row per case, parameters, status, timing and run.json's results;
+    written to a temporary file renamed over it (removed when the write fails)."""
     result_keys = sorted({k for c in sweep.cases if c.summary for k in c.summary.get("results", {})})
     header = ["case", "status", "stop_reason", "wall_time_s", "steps", "particles",
               *sweep.parameters, *result_keys, "message"]
     tmp = path.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="") as f:
+    with _writing(path, partial=tmp), open(tmp, "w", newline="") as f:
         out = csv.writer(f)
         out.writerow(header)
         for c in sweep.cases:
@@ -387,8 +396,8 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     every Case (status "ok", "failed", "interrupted", or "pending" for a case not run). A dry
     run prints each selected case's command and checks the scenario of each case to be run
     with `tsubu check` (a case it refuses is "failed"). Raises SweepError for a bad sweep;
-    KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have stopped with a
-    checkpoint."""
+    KeyboardInterrupt after Ctrl-C or SIGTERM, and SweepWriteError when a file of the sweep
+    cannot be written (a full disk), once the runs under way have stopped with a checkpoint."""
     sweep = load_sweep(sweep)
     chosen = select_cases(sweep.cases, only)
     if jobs is None:
@@ -410,7 +419,8 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
               f" into {sweep.output}" if only else
               f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
         return sweep.cases
-    sweep.output.mkdir(parents=True, exist_ok=True)
+    with _writing(sweep.output):
+        sweep.output.mkdir(parents=True, exist_ok=True)
     lock = _lock_output(sweep.output)
     try:
         return _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress)
@@ -421,12 +431,20 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
 def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     """run_sweep's work, with the output folder locked."""
     logs = sweep.output / "logs"
-    logs.mkdir(exist_ok=True)
+    with _writing(logs):
+        logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
     report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
     waiting = []  # cases whose folder another tsubu holds: brought forward once it ends
+    asked = set()  # runs asked to stop: a second SIGINT would end one without its checkpoint
+
+    def ask_runs_to_stop():
+        for proc in running:
+            if proc not in asked:
+                proc.send_signal(signal.SIGINT)
+                asked.add(proc)
 
     def wait_for_holder(case, holder):
         case.status, case.message = "running", f"running in another tsubu ({holder}); waiting for it to end"
@@ -441,7 +459,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
         case, log_path, log = running.pop(proc)
         log.close()
         if proc.returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
-            wait_for_holder(case, _held_elsewhere(case.folder) or "holder unknown")  # it started just before
+            wait_for_holder(case, lock_holder(case.folder) or "holder unknown")  # it started just before
             return
         case.refresh()
         # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
@@ -464,7 +482,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     started = False
     try:
         while (queue or running or waiting) and not stop:
-            for case in [c for c in waiting if not _held_elsewhere(c.folder)]:
+            for case in [c for c in waiting if not lock_holder(c.folder)]:
                 waiting.remove(case)
                 command = case.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed)
                 if command:
@@ -474,13 +492,14 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
                     report.report(*counts())
             while queue and len(running) < jobs and not stop:
                 case, command = queue.pop()
-                holder = _held_elsewhere(case.folder)
+                holder = lock_holder(case.folder)
                 if holder:
                     wait_for_holder(case, holder)
                     continue
                 log_path = logs / f"{case.name}.log"
-                log = open(log_path, "a")
-                print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
+                with _writing(log_path):
+                    log = open(log_path, "a")
+                    print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
                 # A session of its own: a Ctrl-C at the terminal reaches only the sweep, which
                 # then asks each run once to stop (a second signal would stop a run at once).
                 proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
@@ -498,14 +517,25 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
             if progress:
                 print(f"sweep: interrupted: asking {len(running)} runs to stop with a checkpoint", file=progress,
                       flush=True)
-            for proc in running:
-                proc.send_signal(signal.SIGINT)
+            ask_runs_to_stop()
             for sig, handler in handlers.items():  # a second Ctrl-C stops the sweep at once
                 signal.signal(sig, handler)
             for proc in list(running):
                 proc.wait()
                 finish(proc)
             raise KeyboardInterrupt
+    except SweepWriteError as e:
+        # Nothing more can be recorded: the runs stop with a checkpoint, to be resumed by the
+        # same command once the disk has room.
+        stopped = len(running)
+        ask_runs_to_stop()
+        for proc, (_, _, log) in list(running.items()):
+            proc.wait()
+            with contextlib.suppress(OSError):
+                log.close()
+        running.clear()
+        raise SweepWriteError(f"{e}" + (f"; {stopped} run{'s' if stopped > 1 else ''} under way stopped with a "
+                                        "checkpoint" if stopped else "")) from None
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
@@ -549,6 +579,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("sweep: stopped; run the same command again to continue", file=sys.stderr)
         return INTERRUPTED
+    except SweepWriteError as e:
+        print(f"error: {e}; make room, then run the same command again to continue", file=sys.stderr)
+        return WRITE_FAILED
     cases = select_cases(cases, args.only)
     failed = [c.name for c in cases if c.status != "ok"]
     if args.dry_run:
