@@ -391,7 +391,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
         save_checkpoint();
       else if (elapsed() - last_flush >= 1.0)
         flush_rows();
-      if (report.active() && report.due(elapsed())) report.report(s, world.time, elapsed(), physics);
+      if (report.active() && report.due(elapsed()))
+        report.report(s, world.time, elapsed(), physics, monitor.stop_progress(inflow && inflow->ended()));
     }
     report.finish();
     if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
