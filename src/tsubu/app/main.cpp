@@ -50,6 +50,9 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
   }
   if (std::isfinite(ts.shortest_contact))
     std::printf("  shortest contact: %.3g s (%s)\n", ts.shortest_contact, ts.shortest_contact_what.c_str());
+  if (ts.deepest_overlap > 0)
+    std::printf("  deepest overlap: %.3g of the smaller diameter (%s; simulation.overlap_limit = %.3g)\n",
+                ts.deepest_overlap, ts.deepest_overlap_what.c_str(), sc.overlap_limit);
   const char* verdict = ts.safe ? "safe" : ts.warnings.empty() ? "above the suggestion" : "NOT safe (see the warning)";
   std::printf("dt = %.3g s (%s): suggested dt <= %.3g s (%s); %s\n", sc.dt, tsubu::integrator_name(sc.integrator),
               ts.suggested_dt, ts.suggestion.c_str(), verdict);

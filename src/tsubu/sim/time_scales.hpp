@@ -12,9 +12,8 @@
 
 namespace tsubu {
 
-// A dt below this share of the shortest contact is suggested for fixed steps (20 steps per
-// contact); above kFewestContactSteps steps per contact a fixed step is an error in waiting.
-constexpr double kStepsPerContact = 20;
+// A dt below 1/kStepsPerContact (contact/law.hpp) of the shortest contact is suggested for
+// fixed steps; below kFewestContactSteps steps per contact a fixed step is an error in waiting.
 constexpr double kFewestContactSteps = 10;
 // A fixed dt below this share of the shortest drag relaxation time is suggested (the explicit
 // drag's relative error is dt/(2 tau)); above kLargestRelaxationShare of it, a warning.
@@ -43,6 +42,8 @@ struct TimeScales {
   double shortest_contact = 0;       // s, over every pair of the grains above and every wall
   std::string shortest_contact_what; // which pair, and its normal model
   bool contact_resolution_matters = true;  // false with models P and F (exact whatever dt)
+  double deepest_overlap = 0;        // the largest peak overlap / smaller diameter at the impact speed
+  std::string deepest_overlap_what;  // which pair, and its normal model
   double shortest_relaxation = 0;    // s, infinite without a fluid's drag
   double suggested_dt = 0;           // s
   std::string suggestion;            // how suggested_dt follows from the rules
