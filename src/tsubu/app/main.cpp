@@ -60,14 +60,20 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
     std::printf("  %.3g steps per shortest contact\n", ts.shortest_contact / sc.dt);
   std::printf("steps: %lld\n", static_cast<long long>(ts.steps));
   const tsubu::WallTimeEstimate e = tsubu::estimate_wall_time(sc, std::move(world), 300, 1.0);
+  const char* stop = sc.stops.empty() ? "" : "; to the duration: a [[stop]] may end the run sooner";
   if (!e.failure.empty())
     std::printf("estimated wall time: none, the timing sample failed after %lld steps: %s\n",
                 static_cast<long long>(e.sampled_steps), e.failure.c_str());
+  else if (!e.cannot.empty())
+    std::printf("estimated wall time: cannot estimate: %s; the start's cost, %lld steps timed in %.3g s on %d thread%s, "
+                "gives at least %.3g s%s\n",
+                e.cannot.c_str(), static_cast<long long>(e.sampled_steps), e.sample_seconds, threads,
+                threads == 1 ? "" : "s", e.run_seconds, stop);
   else
-    std::printf("estimated wall time: %.3g s (an estimate: %lld steps timed in %.3g s on %d thread%s, of the particles "
-                "present at the start%s)\n",
+    std::printf("estimated wall time: %.3g s (%lld steps of the start timed in %.3g s on %d thread%s, %.2g contacts a "
+                "grain: within about 2x while the grains stay as packed as at the start%s)\n",
                 e.run_seconds, static_cast<long long>(e.sampled_steps), e.sample_seconds, threads, threads == 1 ? "" : "s",
-                tsubu::inflow_source(sc) ? "; the inflow adds grains as the run goes, so it will take longer" : "");
+                e.contacts_per_grain, stop);
   for (const std::string& w : ts.warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
 }
 

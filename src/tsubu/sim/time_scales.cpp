@@ -174,6 +174,22 @@ void judge_dt(const Scenario& sc, TimeScales& ts) {
                           " of it, " + fmt(kRelaxationShare) + " suggested: dt <= " + fmt(ts.suggested_dt) + " s");
 }
 
+// Below this many touching contacts a grain, grains under gravity start apart: they will
+// fall and pack (a packed bed has about 3 a grain, pairs and walls counted once).
+constexpr double kLooseContacts = 1;
+
+// Why a sample of the start cannot tell the run's cost (empty when it can).
+std::string why_no_estimate(const Scenario& sc, std::size_t grains, double contacts_per_grain) {
+  if (inflow_source(sc))
+    return "the inflow brings its grains during the run, and the cost of a step grows with them (the sample holds the " +
+           std::to_string(grains) + " present at the start)";
+  if (grains > 0 && norm(sc.gravity) > 0 && contacts_per_grain < kLooseContacts)
+    return "the grains start apart (" + fmt(contacts_per_grain) +
+           " contacts a grain) and will fall and pack; a packed bed, and the neighbour lists rebuilt while the grains "
+           "fall, cost several times more a step than the start (5 to 60 times in the settling beds measured)";
+  return "";
+}
+
 }  // namespace
 
 double rayleigh_time(const Material& m, double d) {
@@ -234,6 +250,10 @@ WallTimeEstimate estimate_wall_time(const Scenario& sc, World world, std::int64_
   }
   if (e.sampled_steps > 0)
     e.run_seconds = e.sample_seconds / static_cast<double>(e.sampled_steps) * static_cast<double>(std::llround(sc.duration / sc.dt));
+  const std::size_t grains = sim.world().particles.size();
+  if (grains > 0 && e.failure.empty())
+    e.contacts_per_grain = static_cast<double>(sim.forces().totals(sim.world()).contacts) / static_cast<double>(grains);
+  e.cannot = why_no_estimate(sc, grains, e.contacts_per_grain);
   return e;
 }
 

@@ -58,12 +58,19 @@ TimeScales time_scales(const Scenario& scenario, const World& world);
 
 // The wall time of the run from a short sample: the world is stepped (at most
 // `max_steps` steps, stopping once `budget_s` seconds have passed) and the time per step
-// is multiplied by the run's steps.
+// is multiplied by the run's steps. That is an estimate (within about 2x) only while the
+// grains stay as they start, packed or apart: a step's cost follows the grains present, their
+// contacts and how often their neighbour lists are rebuilt. When the run will change them
+// (an inflow brings its grains; grains that start apart fall and pack, a packed bed costing
+// several times more a step, and rebuild their lists as they fall), `cannot` says so and the
+// sample's cost is a lower bound.
 struct WallTimeEstimate {
   std::int64_t sampled_steps = 0;
-  double sample_seconds = 0;   // the sampled steps alone, without the first force evaluation
-  double run_seconds = 0;      // the estimate for the whole run
-  std::string failure;         // the sample stopped with a numerical failure (the message)
+  double sample_seconds = 0;      // the sampled steps alone, without the first force evaluation
+  double run_seconds = 0;         // the sample's cost per step times the run's steps
+  double contacts_per_grain = 0;  // touching contacts (pairs and walls) per grain after the sample
+  std::string cannot;             // why run_seconds is only a lower bound; empty when it is the estimate
+  std::string failure;            // the sample stopped with a numerical failure (the message)
 };
 WallTimeEstimate estimate_wall_time(const Scenario& scenario, World world, std::int64_t max_steps, double budget_s);
 
