@@ -64,6 +64,8 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
   if (!e.failure.empty())
     std::printf("estimated wall time: none, the timing sample failed after %lld steps: %s\n",
                 static_cast<long long>(e.sampled_steps), e.failure.c_str());
+  else if (!e.cannot.empty() && e.particles == 0)
+    std::printf("estimated wall time: cannot estimate: %s\n", e.cannot.c_str());
   else if (!e.cannot.empty())
     std::printf("estimated wall time: cannot estimate: %s; the start's cost, %lld steps timed in %.3g s on %d thread%s, "
                 "gives at least %.3g s%s\n",

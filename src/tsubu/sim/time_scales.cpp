@@ -250,10 +250,10 @@ WallTimeEstimate estimate_wall_time(const Scenario& sc, World world, std::int64_
   }
   if (e.sampled_steps > 0)
     e.run_seconds = e.sample_seconds / static_cast<double>(e.sampled_steps) * static_cast<double>(std::llround(sc.duration / sc.dt));
-  const std::size_t grains = sim.world().particles.size();
-  if (grains > 0 && e.failure.empty())
-    e.contacts_per_grain = static_cast<double>(sim.forces().totals(sim.world()).contacts) / static_cast<double>(grains);
-  e.cannot = why_no_estimate(sc, grains, e.contacts_per_grain);
+  e.particles = sim.world().particles.size();
+  if (e.particles > 0 && e.failure.empty())
+    e.contacts_per_grain = static_cast<double>(sim.forces().totals(sim.world()).contacts) / static_cast<double>(e.particles);
+  e.cannot = why_no_estimate(sc, e.particles, e.contacts_per_grain);
   return e;
 }
 

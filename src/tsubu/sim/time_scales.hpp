@@ -68,6 +68,7 @@ struct WallTimeEstimate {
   std::int64_t sampled_steps = 0;
   double sample_seconds = 0;      // the sampled steps alone, without the first force evaluation
   double run_seconds = 0;         // the sample's cost per step times the run's steps
+  std::size_t particles = 0;      // present in the sample
   double contacts_per_grain = 0;  // touching contacts (pairs and walls) per grain after the sample
   std::string cannot;             // why run_seconds is only a lower bound; empty when it is the estimate
   std::string failure;            // the sample stopped with a numerical failure (the message)
