@@ -243,8 +243,8 @@ def test_a_full_disk_stops_the_runs_with_a_checkpoint(tmp_path, monkeypatch, cap
     monkeypatch.setattr(tsubu.sweep.os, "fsync", fsync)
     assert tsubu.sweep.main([str(file), "--tsubu", TSUBU]) == 5
     assert capsys.readouterr().err.splitlines()[-1] == (
-        f"error: cannot write {out / 'results.csv'}: No space left on device; 1 run under way stopped with a "
-        "checkpoint; make room, then run the same command again to continue")
+        f"error: cannot write {out / 'results.csv'}: No space left on device; 1 run under way stopped, keeping the "
+        "newest checkpoint; make room, then run the same command again to continue")
     assert not (out / "results.csv.tmp").exists()
     assert [row["status"] for row in results(out).values()] == ["pending", "pending"]  # the last good one
     long = out / "duration=100"

@@ -534,8 +534,8 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
             with contextlib.suppress(OSError):
                 log.close()
         running.clear()
-        raise SweepWriteError(f"{e}" + (f"; {stopped} run{'s' if stopped > 1 else ''} under way stopped with a "
-                                        "checkpoint" if stopped else "")) from None
+        raise SweepWriteError(f"{e}" + (f"; {stopped} run{'s' if stopped > 1 else ''} under way stopped, keeping "
+                                        "the newest checkpoint" if stopped else "")) from None
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
