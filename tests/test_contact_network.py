@@ -222,6 +222,14 @@ def test_export_picks_the_checkpoint_at_or_before_the_time(out, tmp_path):
     assert result.returncode == 2 and "no checkpoint at or before" in result.stderr, result.stderr
 
 
+@pytest.mark.parametrize("time", ["nan", "inf", "-inf"])
+def test_export_refuses_a_time_that_is_not_finite(out, tmp_path, time):
+    """--at nan exported the newest checkpoint."""
+    result = export(out, "--at", time, "--to", str(tmp_path))
+    assert result.returncode == 2 and not any(tmp_path.iterdir())
+    assert result.stderr == f"error: --at {time}: must be a time in seconds, a finite number\n"
+
+
 def test_a_run_started_from_an_export_has_the_exported_particles(out, tmp_path):
     result = export(out)  # the newest: the end of the run
     assert result.returncode == 0, result.stderr

@@ -3,8 +3,10 @@ import csv
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 import types
 from pathlib import Path
 
@@ -184,6 +186,31 @@ def test_killed_run_without_summary(run_dir, tmp_path):
     assert len(run.series) == 41 and len(run.frames) == 5
 
 
+def test_a_run_running_again_is_running(tmp_path):
+    """A run resumed after an interruption read as "interrupted" (run.json's status) while it ran."""
+    out = tmp_path / "run"
+    sets = {"simulation.duration": 0.001, "simulation.dt": 1e-6, "output.vtk_interval": 0,
+            "output.series_interval": 1000, "output.checkpoint_every_steps": 200}  # no rows while it runs
+    subprocess.run([TSUBU, "run", str(ROOT / "tests/scenarios/inflow_small.toml"), "--out", str(out),
+                    *(a for k, v in sets.items() for a in ("--set", f"{k}={v}"))], check=True, capture_output=True)
+    assert read_run(out).status == "ok"
+    resumed = subprocess.Popen([TSUBU, "resume", str(out), "--set", "simulation.duration=100"],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        end = time.monotonic() + 60
+        while read_run(out).status != "running":
+            assert resumed.poll() is None and time.monotonic() < end, "the resume never held its folder"
+            time.sleep(0.01)
+        assert read_run(out).summary["status"] == "ok"  # the earlier session's
+        while not any(int(f.stem[5:]) > 1000 for f in (out / "checkpoint").glob("step_*.tsbk")):
+            assert resumed.poll() is None and time.monotonic() < end, "the resume never stepped"
+            time.sleep(0.01)  # stepping: SIGINT then stops it with a checkpoint
+    finally:
+        resumed.send_signal(signal.SIGINT)
+        assert resumed.wait() == 4
+    assert read_run(out).status == "interrupted"
+
+
 def test_not_a_run(tmp_path):
     with pytest.raises(RunError, match="no such folder"):
         read_run(tmp_path / "missing")
@@ -200,10 +227,25 @@ def test_bad_tables(tmp_path):
         read_table(tmp_path / "a.csv")
     (tmp_path / "b.csv").write_text("time,contacts\n0,1\n0.5,many\n")
     with pytest.raises(RunError, match=r"b.csv:3: contacts: 'many' is not a number"):
-        read_table(tmp_path / "b.csv")
+        read_table(tmp_path / "b.csv", numbers_only=True)
+    (tmp_path / "x").mkdir()
+    (tmp_path / "x" / ".tsubu-run").write_text("1\n")
+    shutil.copy(tmp_path / "b.csv", tmp_path / "x" / "series.csv")
+    with pytest.raises(RunError, match=r"series.csv:3: contacts: 'many' is not a number"):
+        read_run(tmp_path / "x")
     (tmp_path / "c.csv").write_text("time,x\n")
     empty = read_table(tmp_path / "c.csv")
     assert len(empty) == 0 and empty.dtype.names == ("time", "x")
+
+
+def test_tables_with_text_and_empty_cells(tmp_path):
+    """Any CSV file reads (a sweep's results.csv, with its text case column, was refused)."""
+    (tmp_path / "r.csv").write_text("case,status,steps,porosity,message\nseed=3,ok,20000,0.41,\n"
+                                     "seed=4,pending,,,\"a, b\"\n")
+    table = read_table(tmp_path / "r.csv")
+    assert table["case"].tolist() == ["seed=3", "seed=4"] and table["status"].tolist() == ["ok", "pending"]
+    assert table["steps"][0] == 20000 and np.isnan(table["steps"][1]) and np.isnan(table["porosity"][1])
+    assert table["porosity"][0] == 0.41 and table["message"].tolist() == ["", "a, b"]
 
 
 def test_dataframes(run_dir, monkeypatch):

@@ -1,6 +1,7 @@
 """tsubu.sweep: a 2 x 2 grid of small inflow runs with 2 jobs, skipping, resuming after a kill
 and after Ctrl-C, failed cases, and bad sweep files (about half a minute in all)."""
 import csv
+import errno
 import json
 import os
 import re
@@ -13,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+import tsubu.sweep
+from tsubu.runs import lock_holder, read_table
 from tsubu.sweep import SweepError, load_sweep, run_sweep, toml_value
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -74,6 +77,9 @@ def test_grid_runs_every_case(grid_run):
         assert float(row["porosity"]) == summary["results"]["porosity"]
         seed, phi = int(row["simulation.seed"]), float(row["particles.0.solid_fraction"])
         assert name == f"solid_fraction={phi},seed={seed}" and summary["results"]["inflow_phi_0"] == phi
+    read = read_table(out / "results.csv")  # the sweep's own table, text columns and all
+    assert sorted(read["case"]) == sorted(CASES) and read["steps"].tolist() == [20000] * 4
+    assert read["porosity"].tolist() == [float(table[name]["porosity"]) for name in read["case"]]
     assert "sweep: 4 of 4 cases finished" in done.stderr
     assert re.search(r"sweep: 4 done, 0 running, 0 left, 0 failed; elapsed \S+, ETA 0s", done.stderr)
     assert "2 running" in done.stderr  # two at a time
@@ -218,6 +224,35 @@ def test_api_takes_a_dict(tmp_path, capsys):
     assert sorted(results(tmp_path / "out")) == ["duration=0.01", "duration=0.02"]
 
 
+def test_a_full_disk_stops_the_runs_with_a_checkpoint(tmp_path, monkeypatch, capsys):
+    """results.csv cannot be written once the first case ends (a full disk): the sweep died in
+    a traceback, left results.csv.tmp and the other run running."""
+    out = tmp_path / "out"
+    file = tmp_path / "full.toml"
+    file.write_text(f'scenario = "{SCENARIO}"\noutput = "{out}"\njobs = 2\n'
+                    '[set]\n"simulation.dt" = 1e-6\n"output.vtk_interval" = 0\n'
+                    '[[cases]]\n"simulation.duration" = 0.002\n[[cases]]\n"simulation.duration" = 100\n')
+    real_fsync, calls = os.fsync, []
+
+    def fsync(fd):  # results.csv's second write (after a case) finds the disk full
+        calls.append(fd)
+        if len(calls) > 1:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real_fsync(fd)
+
+    monkeypatch.setattr(tsubu.sweep.os, "fsync", fsync)
+    assert tsubu.sweep.main([str(file), "--tsubu", TSUBU]) == 5
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        f"error: cannot write {out / 'results.csv'}: No space left on device; 1 run under way stopped, keeping the "
+        "newest checkpoint; make room, then run the same command again to continue")
+    assert not (out / "results.csv.tmp").exists()
+    assert [row["status"] for row in results(out).values()] == ["pending", "pending"]  # the last good one
+    long = out / "duration=100"
+    assert lock_holder(long) is None, "a run was left running"
+    assert json.loads((long / "run.json").read_text())["status"] == "interrupted"
+    assert list((long / "checkpoint").glob("step_*.tsbk"))
+
+
 @pytest.mark.parametrize("text, message", [
     ('output = "x"\n', r"scenario: required: the path of the base scenario"),
     ('scenario = "missing.toml"\n[grid]\n"a.b" = [1]\n', r"scenario: no such file: .*missing.toml"),
@@ -265,6 +300,31 @@ def test_only_selects_cases(grid_run, tmp_path):
     done = sweep(finished, "--only", "simulation.seed=4")
     assert done.returncode == 0 and "sweep: 2 of 2 cases finished" in done.stderr, done.stderr
     assert [row["status"] for row in results(out).values()] == ["ok"] * 4, "results.csv keeps the cases left out"
+
+
+def test_only_that_matches_no_case_lists_the_values(tmp_path):
+    """--only with a value no case has ended "0 of 0 cases finished", exit 0."""
+    file = write_sweep(tmp_path / "grid.toml", tmp_path / "out")
+    done = sweep(file, "--only", "simulation.seed=5")
+    assert done.returncode == 2 and not (tmp_path / "out").exists()
+    assert done.stderr == "error: --only simulation.seed=5: no case matches; simulation.seed takes 3, 4\n"
+    done = sweep(file, "--dry-run", "--only", "simulation.seed=4", "--only", "particles.0.solid_fraction=0.2")
+    assert done.returncode == 2 and done.stderr == (
+        "error: --only simulation.seed=4 particles.0.solid_fraction=0.2: no case matches; simulation.seed takes 3, 4;"
+        " particles.0.solid_fraction takes 0.1, 0.05\n")
+
+
+def test_a_tsubu_that_is_not_an_executable_is_refused(tmp_path):
+    """--tsubu or $TSUBU_BINARY naming no executable ran the build's tsubu instead."""
+    file = write_sweep(tmp_path / "grid.toml", tmp_path / "out")
+    missing = tmp_path / "no-tsubu"
+    done = sweep(file, "--tsubu", missing)
+    assert done.returncode == 2 and not (tmp_path / "out").exists()
+    assert done.stderr == (f"error: --tsubu {missing}: names no executable file (nor a command on the PATH); "
+                           "give the path of tsubu, e.g. build/tsubu\n")
+    done = subprocess.run([sys.executable, "-m", "tsubu.sweep", str(file), "--dry-run"],
+                          env={**ENV, "TSUBU_BINARY": str(SCENARIO)}, capture_output=True, text=True)
+    assert done.returncode == 2 and done.stderr.startswith(f"error: TSUBU_BINARY {SCENARIO}: names no executable file")
 
 
 @pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7-rest", 288), ("fig7-stop", 288), ("fig8", 2),

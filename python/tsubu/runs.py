@@ -12,20 +12,24 @@ subfolder is called): each one is a `Collection` named after its file (`particle
 python3-vtk9) is importable, else by the small reader below, which knows the XML files tsubu
 writes (inline data, base64 or ascii, uncompressed). Tables (series.csv, track.csv and a
 frame's .csv beside its .vtp) become NumPy structured arrays: a column whose every value is
-an integer is int64, any other float64, and a unit in the header (`time[s]`) is dropped from
-the field name. With `dataframes=True` they are pandas DataFrames instead. Format of the
+an integer is int64, one of numbers (empty cells are NaN) float64, any other text (a sweep's
+results.csv), and a unit in the header (`time[s]`) is dropped from the field name. With `dataframes=True` they are pandas DataFrames instead. Format of the
 files: docs/cli.md (output folder); this module: docs/sweeps.md (reading a run).
 """
 import base64
 import csv
+import fcntl
 import json
+import os
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["RunError", "Run", "Collection", "Dataset", "read_run", "read_table", "read_dataset"]
+__all__ = ["RunError", "Run", "Collection", "Dataset", "read_run", "read_table", "read_dataset", "lock_holder"]
+
+RUN_LOCK = ".tsubu-lock"  # in a run's folder, held by the tsubu running there (io/output_dir.hpp)
 
 
 class RunError(ValueError):
@@ -36,8 +40,27 @@ _INTEGER = re.compile(r"-?[0-9]+\Z")
 _UNIT = re.compile(r"\[[^\]]*\]\Z")
 
 
-def read_table(path):
-    """A CSV file with a header row as a NumPy structured array (one field per column)."""
+def lock_holder(folder):
+    """Who holds the run folder's lock ("pid P on HOST, since T", as tsubu writes it) while a
+    tsubu runs or resumes there, else None."""
+    try:
+        fd = os.open(Path(folder) / RUN_LOCK, os.O_RDONLY)
+    except FileNotFoundError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        return None
+    except BlockingIOError:
+        return (Path(folder) / RUN_LOCK).read_text(errors="replace").strip() or "holder unknown"
+    finally:
+        os.close(fd)  # releases the shared lock at once
+
+
+def read_table(path, numbers_only=False):
+    """A CSV file with a header row as a NumPy structured array (one field per column): int64
+    where every value is an integer, float64 where every value is a number or empty (NaN),
+    text otherwise. numbers_only: a value that is not a number is a RunError instead (the
+    files tsubu writes hold numbers only)."""
     path = Path(path)
     try:
         with open(path, newline="") as f:
@@ -56,11 +79,15 @@ def read_table(path):
     fields = []
     for name, column in zip(names, columns):
         integer = bool(column) and all(_INTEGER.match(v) for v in column)
-        try:
-            fields.append(np.array(column, dtype=str).astype(np.int64 if integer else np.float64))
-        except ValueError:
-            line, value = next((k, v) for k, v in enumerate(column, start=2) if not _is_number(v))
-            raise RunError(f"{path}:{line}: {name}: {value!r} is not a number") from None
+        text = next(((k, v) for k, v in enumerate(column, start=2) if v.strip() and not _is_number(v)), None)
+        if text and numbers_only:
+            raise RunError(f"{path}:{text[0]}: {name}: {text[1]!r} is not a number")
+        if integer:
+            fields.append(np.array(column, dtype=str).astype(np.int64))
+        elif text:
+            fields.append(np.array(column, dtype=str))
+        else:
+            fields.append(np.array([v if v.strip() else "nan" for v in column], dtype=str).astype(np.float64))
     table = np.empty(len(rows) - 1, dtype=[(name, field.dtype) for name, field in zip(names, fields)])
     for name, field in zip(names, fields):
         table[name] = field
@@ -244,7 +271,7 @@ class Collection:
     def table(self, i):
         """The .csv file beside frame i's file (same name), as a table; None if there is none."""
         csv_path = self.files[i].with_suffix(".csv")
-        return _as_frame(read_table(csv_path), self._dataframes) if csv_path.is_file() else None
+        return _as_frame(read_table(csv_path, numbers_only=True), self._dataframes) if csv_path.is_file() else None
 
     def __repr__(self):
         return f"Collection({self.name!r}, {len(self)} frames, {str(self.path)!r})"
@@ -283,7 +310,7 @@ class Run:
 
         def table(name):
             path = self.path / name
-            return read_table(path) if path.is_file() else None
+            return read_table(path, numbers_only=True) if path.is_file() else None
 
         series, track = table("series.csv"), table("track.csv")
         tracks = {} if track is None else {int(i): track[track["id"] == i] for i in np.unique(track["id"])}
@@ -299,7 +326,10 @@ class Run:
 
     @property
     def status(self):
-        """run.json's status ("ok", "failed", "interrupted"), or None without run.json."""
+        """"running" while a tsubu runs or resumes in the folder (its lock is held), else
+        run.json's status ("ok", "failed", "interrupted"), or None without run.json."""
+        if lock_holder(self.path):
+            return "running"
         return self.summary.get("status") if self.summary else None
 
     @property

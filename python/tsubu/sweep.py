@@ -12,9 +12,11 @@ are written to OUTPUT/results.csv. Ctrl-C (or SIGTERM) asks the runs to stop wit
 checkpoint; re-running continues them. The format and the command: docs/sweeps.md.
 
 Exit codes: 0 every case finished, 1 a case failed, 2 a bad sweep file or command line,
-4 interrupted.
+4 interrupted, 5 a file of the sweep could not be written (the runs were stopped with a
+checkpoint).
 """
 import argparse
+import contextlib
 import csv
 import fcntl
 import itertools
@@ -32,15 +34,35 @@ import time
 import tomllib
 from pathlib import Path
 
-__all__ = ["SweepError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
+from .runs import lock_holder
+
+__all__ = ["SweepError", "SweepWriteError", "Case", "Sweep", "load_sweep", "run_sweep", "main"]
 
 INTERRUPTED = 4
+WRITE_FAILED = 5  # as tsubu's own exit code for an output it cannot write
 SWEEP_LOCK = ".tsubu-sweep-lock"  # in the output root, held by the sweep running there
-RUN_LOCK = ".tsubu-lock"  # in a case's folder, held by the tsubu running there (io/output_dir.hpp)
 
 
 class SweepError(ValueError):
     """A bad sweep file: `file: key: what is wrong`."""
+
+
+class SweepWriteError(OSError):
+    """A file of the sweep (results.csv, a log, the lock) could not be written:
+    `cannot write FILE: reason`. The runs under way were stopped with a checkpoint."""
+
+
+@contextlib.contextmanager
+def _writing(path, partial=None):
+    """Turns an OSError while writing `path` into a SweepWriteError naming it; the file
+    `partial` (a temporary one being written) is removed then."""
+    try:
+        yield
+    except OSError as e:
+        if partial:
+            with contextlib.suppress(OSError):
+                partial.unlink(missing_ok=True)
+        raise SweepWriteError(f"cannot write {path}: {e.strerror or e}") from None
 
 
 class Case:
@@ -245,11 +267,19 @@ def load_sweep(sweep):
 
 
 def find_tsubu(tsubu=None):
-    """The tsubu executable: the argument, else $TSUBU_BINARY, else `tsubu` on the PATH, else the
-    build's tsubu: beside build/python when the package is imported from the build (as the
-    set-up installs it), or the repository's build/tsubu when imported from python/."""
+    """The tsubu executable: the argument, else $TSUBU_BINARY (either must name an executable:
+    SweepError otherwise), else `tsubu` on the PATH, else the build's tsubu: beside build/python
+    when the package is imported from the build (as the set-up installs it), or the
+    repository's build/tsubu when imported from python/."""
+    for given, source in ((tsubu, "--tsubu"), (os.environ.get("TSUBU_BINARY"), "TSUBU_BINARY")):
+        if given:
+            found = shutil.which(given)
+            if not found:
+                raise SweepError(f"{source} {given}: names no executable file (nor a command on the PATH); "
+                                 "give the path of tsubu, e.g. build/tsubu")
+            return Path(found).resolve()
     here = Path(__file__).resolve().parents[2]
-    candidates = [tsubu, os.environ.get("TSUBU_BINARY"), shutil.which("tsubu"), here / "tsubu", here / "build" / "tsubu"]
+    candidates = [shutil.which("tsubu"), here / "tsubu", here / "build" / "tsubu"]
     for c in candidates:
         if c and Path(c).is_file() and os.access(c, os.X_OK):
             return Path(c).resolve()
@@ -293,7 +323,8 @@ def _holder_text():
 def _lock_output(output):
     """Holds OUTPUT/.tsubu-sweep-lock (flock, released however the sweep ends) and returns its
     file; a folder another sweep holds raises SweepError naming the holder."""
-    lock = open(output / SWEEP_LOCK, "a+")
+    with _writing(output / SWEEP_LOCK):
+        lock = open(output / SWEEP_LOCK, "a+")
     try:
         fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
@@ -302,36 +333,22 @@ def _lock_output(output):
         lock.close()
         raise SweepError(f"{output}: in use by another sweep ({holder}); wait for it to end or choose another "
                          "output folder") from None
-    lock.seek(0)
-    lock.truncate()
-    lock.write(_holder_text() + "\n")
-    lock.flush()
+    with _writing(output / SWEEP_LOCK):
+        lock.seek(0)
+        lock.truncate()
+        lock.write(_holder_text() + "\n")
+        lock.flush()
     return lock
 
 
-def _held_elsewhere(folder):
-    """The holder of a case folder's tsubu lock when a tsubu runs there (a run of an earlier,
-    killed sweep), else None."""
-    try:
-        fd = os.open(folder / RUN_LOCK, os.O_RDONLY)
-    except FileNotFoundError:
-        return None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-        return None
-    except BlockingIOError:
-        return Path(folder / RUN_LOCK).read_text(errors="replace").strip() or "holder unknown"
-    finally:
-        os.close(fd)  # releases the shared lock at once
-
-
 def write_results(sweep, path):
-    """results.csv: one row per case, parameters, status, timing and run.json's results."""
+    """results.csv: one row per case, parameters, status, timing and run.json's results;
+    written to a temporary file renamed over it (removed when the write fails)."""
     result_keys = sorted({k for c in sweep.cases if c.summary for k in c.summary.get("results", {})})
     header = ["case", "status", "stop_reason", "wall_time_s", "steps", "particles",
               *sweep.parameters, *result_keys, "message"]
     tmp = path.with_suffix(".csv.tmp")
-    with open(tmp, "w", newline="") as f:
+    with _writing(path, partial=tmp), open(tmp, "w", newline="") as f:
         out = csv.writer(f)
         out.writerow(header)
         for c in sweep.cases:
@@ -344,12 +361,13 @@ def write_results(sweep, path):
             out.writerow(row)
         f.flush()
         os.fsync(f.fileno())
-    os.replace(tmp, path)
+        os.replace(tmp, path)
 
 
 def select_cases(cases, only):
     """The cases whose parameters match every "KEY=VALUE" of `only` (VALUE in TOML, as the
-    sweep file writes it: particles.0.solid_fraction=0.1)."""
+    sweep file writes it: particles.0.solid_fraction=0.1); SweepError when none does, listing
+    the values each key takes."""
     wanted = {}
     for item in only or ():
         key, sep, text = item.partition("=")
@@ -363,7 +381,13 @@ def select_cases(cases, only):
     for key in wanted:
         if key not in known:
             raise SweepError(f"--only {key}: not a parameter of this sweep (its parameters: {', '.join(known)})")
-    return [c for c in cases if all(key in c.params and c.params[key] == v for key, v in wanted.items())]
+    chosen = [c for c in cases if all(key in c.params and c.params[key] == v for key, v in wanted.items())]
+    if wanted and not chosen:
+        def values(key):
+            return ", ".join(dict.fromkeys(toml_value(c.params[key]) for c in cases if key in c.params))
+        raise SweepError(f"--only {' '.join(only)}: no case matches; "
+                         + "; ".join(f"{key} takes {values(key)}" for key in wanted))
+    return chosen
 
 
 def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr, only=None):
@@ -372,8 +396,8 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
     every Case (status "ok", "failed", "interrupted", or "pending" for a case not run). A dry
     run prints each selected case's command and checks the scenario of each case to be run
     with `tsubu check` (a case it refuses is "failed"). Raises SweepError for a bad sweep;
-    KeyboardInterrupt after Ctrl-C or SIGTERM, once the runs under way have stopped with a
-    checkpoint."""
+    KeyboardInterrupt after Ctrl-C or SIGTERM, and SweepWriteError when a file of the sweep
+    cannot be written (a full disk), once the runs under way have stopped with a checkpoint."""
     sweep = load_sweep(sweep)
     chosen = select_cases(sweep.cases, only)
     if jobs is None:
@@ -395,7 +419,8 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
               f" into {sweep.output}" if only else
               f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
         return sweep.cases
-    sweep.output.mkdir(parents=True, exist_ok=True)
+    with _writing(sweep.output):
+        sweep.output.mkdir(parents=True, exist_ok=True)
     lock = _lock_output(sweep.output)
     try:
         return _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress)
@@ -406,12 +431,20 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
 def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     """run_sweep's work, with the output folder locked."""
     logs = sweep.output / "logs"
-    logs.mkdir(exist_ok=True)
+    with _writing(logs):
+        logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
     report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
     waiting = []  # cases whose folder another tsubu holds: brought forward once it ends
+    asked = set()  # runs asked to stop: a second SIGINT would end one without its checkpoint
+
+    def ask_runs_to_stop():
+        for proc in running:
+            if proc not in asked:
+                proc.send_signal(signal.SIGINT)
+                asked.add(proc)
 
     def wait_for_holder(case, holder):
         case.status, case.message = "running", f"running in another tsubu ({holder}); waiting for it to end"
@@ -426,7 +459,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
         case, log_path, log = running.pop(proc)
         log.close()
         if proc.returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
-            wait_for_holder(case, _held_elsewhere(case.folder) or "holder unknown")  # it started just before
+            wait_for_holder(case, lock_holder(case.folder) or "holder unknown")  # it started just before
             return
         case.refresh()
         # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
@@ -449,7 +482,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     started = False
     try:
         while (queue or running or waiting) and not stop:
-            for case in [c for c in waiting if not _held_elsewhere(c.folder)]:
+            for case in [c for c in waiting if not lock_holder(c.folder)]:
                 waiting.remove(case)
                 command = case.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed)
                 if command:
@@ -459,13 +492,14 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
                     report.report(*counts())
             while queue and len(running) < jobs and not stop:
                 case, command = queue.pop()
-                holder = _held_elsewhere(case.folder)
+                holder = lock_holder(case.folder)
                 if holder:
                     wait_for_holder(case, holder)
                     continue
                 log_path = logs / f"{case.name}.log"
-                log = open(log_path, "a")
-                print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
+                with _writing(log_path):
+                    log = open(log_path, "a")
+                    print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
                 # A session of its own: a Ctrl-C at the terminal reaches only the sweep, which
                 # then asks each run once to stop (a second signal would stop a run at once).
                 proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
@@ -483,14 +517,25 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
             if progress:
                 print(f"sweep: interrupted: asking {len(running)} runs to stop with a checkpoint", file=progress,
                       flush=True)
-            for proc in running:
-                proc.send_signal(signal.SIGINT)
+            ask_runs_to_stop()
             for sig, handler in handlers.items():  # a second Ctrl-C stops the sweep at once
                 signal.signal(sig, handler)
             for proc in list(running):
                 proc.wait()
                 finish(proc)
             raise KeyboardInterrupt
+    except SweepWriteError as e:
+        # Nothing more can be recorded: the runs stop with a checkpoint, to be resumed by the
+        # same command once the disk has room.
+        stopped = len(running)
+        ask_runs_to_stop()
+        for proc, (_, _, log) in list(running.items()):
+            proc.wait()
+            with contextlib.suppress(OSError):
+                log.close()
+        running.clear()
+        raise SweepWriteError(f"{e}" + (f"; {stopped} run{'s' if stopped > 1 else ''} under way stopped, keeping "
+                                        "the newest checkpoint" if stopped else "")) from None
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
@@ -534,6 +579,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("sweep: stopped; run the same command again to continue", file=sys.stderr)
         return INTERRUPTED
+    except SweepWriteError as e:
+        print(f"error: {e}; make room, then run the same command again to continue", file=sys.stderr)
+        return WRITE_FAILED
     cases = select_cases(cases, args.only)
     failed = [c.name for c in cases if c.status != "ok"]
     if args.dry_run:

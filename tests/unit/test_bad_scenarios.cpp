@@ -169,3 +169,33 @@ TEST(BadScenarioCli, AValueAtItsPrintedBoundIsAcceptedAndValuesArePrintedExactly
 }
 
 }  // namespace
+
+namespace {
+
+// A value given by --set is blamed on its --set, also by the checks made after loading (the
+// hindered ball against the box, the inflow's slab) and when a table the --set gives lacks a
+// key ([[stop]], a sieve curve); before, all of them named line 1 of the scenario file.
+TEST(BadScenarioCli, ErrorsAboutASetValueNameTheSet) {
+  const std::string inflow = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "inflow_small.toml").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"fluid.hindered_settling=true", "fluid.hindered_ball_ratio=5"},
+       "--set fluid.hindered_ball_ratio=5:1: fluid.hindered_ball_ratio: a ball of 5 radii around the largest grain"},
+      {{"stop=[{when=\"porosity\"}]"},
+       "--set stop=[{when=\"porosity\"}]:1: stop[0].at_least: give exactly one of at_least"},
+      {{"particles.0.distribution={type=\"table\", d=[0.002, 0.004]}"},
+       "--set particles.0.distribution={type=\"table\", d=[0.002, 0.004]}:1: "
+       "particles[0].distribution.percent_finer_by_mass: is required but missing"},
+      {{"particles.0.distribution={type=\"talbot\", exponent=0, spread=10, d_max=0.004}"},
+       "--set particles.0.distribution={type=\"talbot\", exponent=0, spread=10, d_max=0.004}:1: "
+       "particles[0].distribution: a slab of the inflow's column"},
+  };
+  for (const auto& [sets, message] : cases) {
+    std::vector<std::string> args{"check", inflow};
+    for (const std::string& set : sets) args.insert(args.end(), {"--set", set});
+    const Outcome o = run_tsubu(args);
+    EXPECT_EQ(o.exit_code, 2) << o.err;
+    EXPECT_EQ(o.err.rfind(message, 0), 0u) << "expected: " << message << "\ngot:      " << o.err;
+  }
+}
+
+}  // namespace

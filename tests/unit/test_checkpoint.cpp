@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu_process.hpp"
 
@@ -58,6 +60,8 @@ std::string final_state(const fs::path& out, bool extended = false) {
   Checkpoint c = read_checkpoint(files.front());
   if (extended) c.overrides.clear(), c.scenario_hash = 0;
   c.wall_seconds = 0;
+  c.record.loop_seconds = 0;  // timings, and the sessions that took them
+  c.record.loop_sessions = 0;
   c.rebuilds = 0;
   c.run_id.clear();
   std::erase_if(c.pair_contacts, [](const Contact& k) { return !k.touching; });
@@ -177,6 +181,25 @@ TEST(CheckpointFormat, TheInflowSectionRoundTripsAndIsAbsentWithoutAnInflow) {
   EXPECT_TRUE(d.inflow.present);
   EXPECT_EQ(d.inflow.first_id, 3);
   EXPECT_EQ(d.inflow.state, c.inflow.state);
+  EXPECT_EQ(encode_checkpoint(d), with);
+}
+
+// The record of the run's sessions (its sources' ids, its loops' totals) follows the inflow's
+// section; a checkpoint without it (an older tsubu's) still reads.
+TEST(CheckpointFormat, TheRecordSectionRoundTripsAfterTheInflowsAndMayBeAbsent) {
+  Checkpoint c = sample_checkpoint();
+  c.inflow = {true, 3, "state"};
+  const std::string without = encode_checkpoint(c);
+  EXPECT_FALSE(decode_checkpoint(without).record.present);
+  c.record = {true, {{0, 3}, {3, INT64_MAX}}, 12.5, 4000, 2};
+  const std::string with = encode_checkpoint(c);
+  EXPECT_EQ(with.size(), without.size() + 1 + 8 + 2 * 16 + 8 + 8 + 8);  // tag, count, pairs, seconds, steps, sessions
+  const Checkpoint d = decode_checkpoint(with);
+  EXPECT_TRUE(d.record.present && d.inflow.present);
+  EXPECT_EQ(d.record.source_ids, c.record.source_ids);
+  EXPECT_EQ(d.record.loop_seconds, 12.5);
+  EXPECT_EQ(d.record.loop_steps, 4000);
+  EXPECT_EQ(d.record.loop_sessions, 2);
   EXPECT_EQ(encode_checkpoint(d), with);
 }
 
@@ -462,7 +485,8 @@ void run_valid_small(const fs::path& out, const std::vector<std::string>& sets) 
 
 // `tsubu resume DIR --set simulation.duration=T2` extends a run that ended at T1: its outputs
 // continue to the same bytes as those of a run of T2 from the start (T1 a multiple of the
-// output intervals), the results in run.json agree, and a later resume keeps the new duration.
+// output intervals), the results and the sources' sizes in run.json agree, its loop time
+// covers both sessions, and a later resume keeps the new duration.
 TEST(Resume, SetDurationExtendsAFinishedRunBitIdentically) {
   TempDir dir;
   const fs::path ref = dir.path() / "ref", out = dir.path() / "out";
@@ -476,15 +500,21 @@ TEST(Resume, SetDurationExtendsAFinishedRunBitIdentically) {
   ASSERT_NO_FATAL_FAILURE(run_valid_small(ref, with("0.01")));
   ASSERT_NO_FATAL_FAILURE(run_valid_small(out, with("0.005")));
   EXPECT_EQ(newest_step(out), 1000);
+  const double first_loop = nlohmann::json::parse(slurp(out / "run.json"))["loop_time_s"].get<double>();
   ASSERT_EQ(run({"resume", out.string(), "--set", "simulation.duration=0.01"}, dir.path() / "resume.log"), 0)
       << slurp(dir.path() / "resume.log");
   expect_same_outputs(ref, out, true);
-  auto results = [](const fs::path& o) {
-    const std::string json = slurp(o / "run.json");
-    return json.substr(json.find("\"results\""));
-  };
-  EXPECT_EQ(results(out), results(ref));
-  EXPECT_NE(results(ref).find("solid_fraction"), std::string::npos);
+  const nlohmann::json extended = nlohmann::json::parse(slurp(out / "run.json"));
+  const nlohmann::json whole = nlohmann::json::parse(slurp(ref / "run.json"));
+  EXPECT_EQ(extended["results"], whole["results"]);
+  EXPECT_TRUE(whole["results"].contains("solid_fraction"));
+  // What the run measured is kept across the sessions: the sizes of its sources (they were
+  // left out after a resume) and the stepping loops of both sessions.
+  ASSERT_TRUE(extended.contains("sources")) << extended.dump();
+  EXPECT_EQ(extended["sources"], whole["sources"]);
+  EXPECT_EQ(whole["loop_sessions"], 1);
+  EXPECT_EQ(extended["loop_sessions"], 2);
+  EXPECT_GT(extended["loop_time_s"].get<double>(), first_loop);
   const Checkpoint c = read_checkpoint(list_checkpoints(out / "checkpoint").front());
   EXPECT_EQ(c.overrides.back(), "simulation.duration=0.01");
   EXPECT_NE(slurp(out / "checkpoint" / "overrides.txt").find("simulation.duration=0.01\n"), std::string::npos);
@@ -513,7 +543,8 @@ TEST(Resume, SetDurationKeepsIntervalsThatFollowFromTheDuration) {
 }
 
 // Keys that could change the past are refused, naming the --set (exit 2); so is a duration
-// the run has already passed and a value that is not one; the run's folder is left as it was.
+// the run has already passed and a value that is not one, and a key the scenario does not know
+// is named unknown; the run's folder is left as it was.
 TEST(Resume, SetRefusesKeysThatChangeThePast) {
   TempDir dir;
   const fs::path out = dir.path() / "out";
@@ -526,6 +557,9 @@ TEST(Resume, SetRefusesKeysThatChangeThePast) {
       {"simulation.duration=0.001",
        "--set simulation.duration=0.001:1: simulation.duration: cannot change on resume: the run is already at step 400"},
       {"simulation.duration=\"long\"", "--set simulation.duration=\"long\":1: simulation.duration: "},
+      // A key the scenario does not know is unknown, not one that cannot change.
+      {"simulation.bogus=1", "--set simulation.bogus=1:1: simulation.bogus: unknown key; allowed here: "},
+      {"simulation.duraton=1", "--set simulation.duraton=1:1: simulation.duraton: unknown key (did you mean 'duration'?)"},
   };
   for (const auto& [set, message] : cases) {
     const fs::path log = dir.path() / "resume.log";

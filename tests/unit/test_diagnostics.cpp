@@ -6,6 +6,7 @@
 #include <string>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu_process.hpp"
 #include "world_builder.hpp"
 
 namespace tsubu {
@@ -58,6 +59,42 @@ TEST(Diagnostics, LeavingTheDomainNamesTheStepItHappenedIn) {
   f.compute(w);
   const std::string why = failure_of([&] { velocity_verlet_step(w, f); });
   EXPECT_NE(why.find("step 1, t = 0.001 s: particle id 0 left the domain"), std::string::npos) << why;
+}
+
+// Grains too soft for their impact speed overlap past the limit however small dt is: the
+// failure says so when the contact lasted many steps (it said "try dt/4", and dt/4 stopped
+// the same way), and `check` warns from the Hertz overlap at the impact speed (it said
+// "safe"). Stiff grains with a dt too large for them keep the advice about dt.
+TEST(Diagnostics, AnOverlapThePhysicsGivesIsNotBlamedOnDt) {
+  using namespace tsubu::testing;
+  TempDir dir;
+  const std::string soft = std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/soft_impact.toml";
+  const std::filesystem::path log = dir.path() / "log";
+  for (const char* dt : {"simulation.dt=1e-8", "simulation.dt=2.5e-9"}) {
+    ASSERT_EQ(run({"run", soft, "--out", (dir.path() / dt).string(), "--set", dt}, log), 3) << slurp(log);
+    const std::string why = slurp(log);
+    EXPECT_NE(why.find("so dt is not the cause (dt/4 stops the same way): the overlap is physical, the grains are too "
+                       "soft for this load or impact speed; use a stiffer material (youngs_modulus) or a larger "
+                       "simulation.overlap_limit"),
+              std::string::npos)
+        << why;
+    EXPECT_EQ(why.find("try dt/4"), std::string::npos) << why;
+  }
+  ASSERT_EQ(run({"check", soft}, log), 0) << slurp(log);
+  EXPECT_NE(slurp(log).find("tsubu: WARNING: a collision at the impact speed, 10 m/s (twice the largest initial particle "
+                            "speed), presses 0.001 m soft on 0.001 m soft, hertz_tsuji (T) to an overlap of "),
+            std::string::npos)
+      << slurp(log);
+  EXPECT_NE(slurp(log).find("beyond simulation.overlap_limit = 0.1: the run would stop whatever dt is"), std::string::npos)
+      << slurp(log);
+  // Stiff grains (E = 1e11 Pa: a contact of 1.5e-6 s) and a step of 3.5e-5 s that carries
+  // them 0.15 diameters into each other at once: dt is the cause.
+  ASSERT_EQ(run({"run", soft, "--out", (dir.path() / "stiff").string(), "--set", "materials.0.youngs_modulus=1e11", "--set",
+                 "simulation.dt=3.5e-5"},
+                log),
+            3)
+      << slurp(log);
+  EXPECT_NE(slurp(log).find("try dt/4"), std::string::npos) << slurp(log);
 }
 
 }  // namespace

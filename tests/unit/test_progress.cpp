@@ -105,3 +105,31 @@ TEST(Progress, ABadLogIntervalIsRefused) {
     EXPECT_FALSE(fs::exists(dir.path() / "out")) << value;
   }
 }
+
+// A run that a [[stop]] condition may end shows where the condition stands, and says that
+// the percentage and ETA count to the duration (a run that stopped at t = 0.53 s read "4.8 %,
+// ETA 63143 s" and nothing else).
+TEST(Progress, ARunWithAStopConditionShowsWhereItStands) {
+  TempDir dir;
+  const fs::path log = dir.path() / "log";
+  ASSERT_EQ(run({"run", kValidSmall, "--out", (dir.path() / "out").string(), "--set",
+                 "stop=[{when=\"solid_fraction\", at_least=0.9, after=0.03}]"},
+                log, [] { setenv("TSUBU_LOG_INTERVAL", "0.05", 1); }),
+            0)
+      << slurp(log);
+  const std::regex line(R"(tsubu: progress: t = ([0-9.e+-]+) s, step [0-9]+ of 10000 \([0-9.]+%\), [0-9.e+]+ steps/s, )"
+                        R"(ETA [0-9]+ s to the duration, E_kin [0-9.e+-]+ J, [0-9]+ contacts; )"
+                        R"(\[\[stop\]\] solid_fraction >= 0\.9: now [0-9.e-]+( \(checked from t = 0\.03 s\))?)");
+  std::istringstream lines(slurp(log));
+  int waiting = 0, checked = 0;
+  for (std::string text; std::getline(lines, text);) {
+    if (text.rfind("tsubu: progress", 0) != 0) continue;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(text, m, line)) << text;
+    // "checked from" while the last series row (every 0.00025 s) is before t = 0.03 s
+    const double t = std::stod(m[1]);
+    EXPECT_TRUE(m[2].matched ? t < 0.03 + 0.00025 : t >= 0.03 - 1e-9) << text;
+    ++(m[2].matched ? waiting : checked);
+  }
+  EXPECT_GE(waiting + checked, 2) << slurp(log);
+}

@@ -43,4 +43,18 @@ std::string AnalysisMonitor::stop_reason(bool inflow_ended) const {
   return "";
 }
 
+std::string AnalysisMonitor::stop_progress(bool inflow_ended) const {
+  std::ostringstream out;
+  out.precision(4);
+  for (std::size_t k = 0; k < stops_.size(); ++k) {
+    const StopSpec& s = stops_[k];
+    out << (k > 0 ? "; " : "") << s.when << (s.at_least ? " >= " : " <= ") << s.limit << ": now ";
+    if (step_ < 0) out << "?";
+    else out << values_[stop_index_[k]];
+    if (time_ < s.after) out << " (checked from t = " << s.after << " s)";
+    else if (s.after_inflow && !inflow_ended) out << " (checked after the inflow's last grain)";
+  }
+  return out.str();
+}
+
 }  // namespace tsubu

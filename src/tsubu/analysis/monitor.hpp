@@ -25,6 +25,10 @@ class AnalysisMonitor {
   // sentence ("deposit_height = 0.016 >= 0.016 at t = 1.2 s"); empty when none does.
   // `inflow_ended`: the inflow has released its last grain (conditions with after_inflow).
   std::string stop_reason(bool inflow_ended) const;
+  // Where each [[stop]] condition stands, for the progress report: "speed_rms <= 0.001: now
+  // 0.05", with "(checked from t = 0.5 s)" or "(checked after the inflow's last grain)" while
+  // that holds; "; " between conditions, empty without any.
+  std::string stop_progress(bool inflow_ended) const;
 
  private:
   std::vector<AnalysisSpec> analyses_;

@@ -30,7 +30,8 @@ static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector
                                         3 * sizeof(double) + sizeof(std::int64_t) + sizeof(OutputState) +
                                         sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
                                         2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State) +
-                                        sizeof(Checkpoint::BlockSteps) + sizeof(Checkpoint::Inflow),
+                                        sizeof(Checkpoint::BlockSteps) + sizeof(Checkpoint::Inflow) +
+                                        sizeof(Checkpoint::Record),
               "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
                   sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint64_t>) &&
@@ -39,6 +40,9 @@ static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
               "the block-step state changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(Checkpoint::Inflow) == 2 * sizeof(std::uint64_t) + sizeof(std::string),
               "the inflow section changed: write the new field in encode_checkpoint/decode_checkpoint");
+static_assert(sizeof(Checkpoint::Record) == sizeof(std::uint64_t) + sizeof(Checkpoint::Record::source_ids) +
+                                                sizeof(double) + 2 * sizeof(std::int64_t),
+              "the record section changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(int) == 4 && sizeof(double) == 8, "the format stores int as 32 and double as 64 bits");
 static_assert(std::endian::native == std::endian::little, "checkpoints are little-endian");
 
@@ -219,6 +223,14 @@ void write_payload(const Checkpoint& c, Writer& w) {
     w.pod(c.inflow.first_id);
     w.str(c.inflow.state);
   }
+  if (c.record.present) {
+    w.pod(std::uint8_t{3});
+    w.u64(c.record.source_ids.size());
+    for (const auto& [first, end] : c.record.source_ids) w.pod(first), w.pod(end);
+    w.pod(c.record.loop_seconds);
+    w.pod(c.record.loop_steps);
+    w.pod(c.record.loop_sessions);
+  }
 }
 
 }  // namespace
@@ -282,7 +294,7 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   const auto started = r.pod<std::uint8_t>();
   if (started > 1) throw CheckpointError("corrupted: energy-watch flag is neither 0 nor 1");
   c.energy_watch = {started == 1, r.pod<double>(), r.pod<double>()};
-  // Optional sections, each once and in this order: 1 block steps, 2 inflow.
+  // Optional sections, each once and in this order: 1 block steps, 2 inflow, 3 the record.
   int section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   if (section == 1) {
     Checkpoint::BlockSteps& b = c.block;
@@ -302,6 +314,16 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
     c.inflow.present = true;
     c.inflow.first_id = r.pod<std::int64_t>();
     c.inflow.state = r.str();
+    section = r.at_end() ? -1 : r.pod<std::uint8_t>();
+  }
+  if (section == 3) {
+    Checkpoint::Record& record = c.record;
+    record.present = true;
+    record.source_ids.resize(r.count(16));
+    for (auto& [first, end] : record.source_ids) first = r.pod<std::int64_t>(), end = r.pod<std::int64_t>();
+    record.loop_seconds = r.pod<double>();
+    record.loop_steps = r.pod<std::int64_t>();
+    record.loop_sessions = r.pod<std::int64_t>();
     section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   }
   if (section != -1) throw CheckpointError("corrupted: unknown section " + std::to_string(section) + " after the energy watch");
@@ -365,6 +387,7 @@ World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesyst
   world.contacts.assign(std::move(c.pair_contacts), std::move(c.wall_contacts), world.particles.size());
   world.step = c.step;
   world.time = c.time;
+  world.source_ids = c.record.source_ids;  // none in a checkpoint of an older tsubu
   for (const Contact& k : world.contacts.walls())
     if (k.j >= world.walls.size()) throw std::runtime_error(file.string() + ": a wall contact names a wall the scenario lacks");
   if (c.wall_points.size() != world.walls.size())

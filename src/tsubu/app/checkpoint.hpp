@@ -55,6 +55,16 @@ struct Checkpoint {
     std::int64_t first_id = 0;
     std::string state;
   } inflow;
+  // What the run records across its sessions (an optional section after the inflow's, absent
+  // in the checkpoints of older tsubus): each [[particles]] source's ids (run.json's sources)
+  // and its stepping loops' totals (loop_time_s, particle_steps_per_second).
+  struct Record {
+    bool present = false;
+    std::vector<std::pair<std::int64_t, std::int64_t>> source_ids;  // World::source_ids
+    double loop_seconds = 0;       // the stepping loops of the sessions counted
+    std::int64_t loop_steps = 0;   // their steps
+    std::int64_t loop_sessions = 0;  // the sessions these cover
+  } record;
 };
 
 // A checkpoint file that cannot be used (missing, truncated, corrupted, other version).

@@ -50,6 +50,9 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
   }
   if (std::isfinite(ts.shortest_contact))
     std::printf("  shortest contact: %.3g s (%s)\n", ts.shortest_contact, ts.shortest_contact_what.c_str());
+  if (ts.deepest_overlap > 0)
+    std::printf("  deepest overlap: %.3g of the smaller diameter (%s; simulation.overlap_limit = %.3g)\n",
+                ts.deepest_overlap, ts.deepest_overlap_what.c_str(), sc.overlap_limit);
   const char* verdict = ts.safe ? "safe" : ts.warnings.empty() ? "above the suggestion" : "NOT safe (see the warning)";
   std::printf("dt = %.3g s (%s): suggested dt <= %.3g s (%s); %s\n", sc.dt, tsubu::integrator_name(sc.integrator),
               ts.suggested_dt, ts.suggestion.c_str(), verdict);
@@ -57,14 +60,22 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
     std::printf("  %.3g steps per shortest contact\n", ts.shortest_contact / sc.dt);
   std::printf("steps: %lld\n", static_cast<long long>(ts.steps));
   const tsubu::WallTimeEstimate e = tsubu::estimate_wall_time(sc, std::move(world), 300, 1.0);
+  const char* stop = sc.stops.empty() ? "" : "; to the duration: a [[stop]] may end the run sooner";
   if (!e.failure.empty())
     std::printf("estimated wall time: none, the timing sample failed after %lld steps: %s\n",
                 static_cast<long long>(e.sampled_steps), e.failure.c_str());
+  else if (!e.cannot.empty() && e.particles == 0)
+    std::printf("estimated wall time: cannot estimate: %s\n", e.cannot.c_str());
+  else if (!e.cannot.empty())
+    std::printf("estimated wall time: cannot estimate: %s; the start's cost, %lld steps timed in %.3g s on %d thread%s, "
+                "gives at least %.3g s%s\n",
+                e.cannot.c_str(), static_cast<long long>(e.sampled_steps), e.sample_seconds, threads,
+                threads == 1 ? "" : "s", e.run_seconds, stop);
   else
-    std::printf("estimated wall time: %.3g s (an estimate: %lld steps timed in %.3g s on %d thread%s, of the particles "
-                "present at the start%s)\n",
+    std::printf("estimated wall time: %.3g s (%lld steps of the start timed in %.3g s on %d thread%s, %.2g contacts a "
+                "grain: within about 2x while the grains stay as packed as at the start%s)\n",
                 e.run_seconds, static_cast<long long>(e.sampled_steps), e.sample_seconds, threads, threads == 1 ? "" : "s",
-                tsubu::inflow_source(sc) ? "; the inflow adds grains as the run goes, so it will take longer" : "");
+                e.contacts_per_grain, stop);
   for (const std::string& w : ts.warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
 }
 
@@ -133,6 +144,8 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed() || resume->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
     if (exporter->parsed()) {
+      if (at->count() && !std::isfinite(export_at))
+        throw tsubu::UsageError("--at " + at->as<std::string>() + ": must be a time in seconds, a finite number");
       const tsubu::ExportedState e = tsubu::export_checkpoint(
           export_dir, at->count() ? std::optional<double>(export_at) : std::nullopt,
           export_to.empty() ? std::filesystem::path(export_dir) / "export" : std::filesystem::path(export_to));

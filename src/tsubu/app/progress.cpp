@@ -24,7 +24,8 @@ Progress::Progress(Mode mode, double log_interval, std::int64_t first_step, std:
       prev_step_(first_step),
       prev_now_(now) {}
 
-void Progress::report(std::int64_t step, double time, double now, const std::function<ProgressPhysics()>& physics) {
+void Progress::report(std::int64_t step, double time, double now, const std::function<ProgressPhysics()>& physics,
+                      const std::string& stops) {
   next_ = now + interval_;
   const double span = now - prev_now_;
   if (span > 0) {
@@ -39,13 +40,14 @@ void Progress::report(std::int64_t step, double time, double now, const std::fun
   }
   const double done = 100.0 * static_cast<double>(step) / static_cast<double>(last_step_);
   const double eta = rate_ > 0 ? static_cast<double>(last_step_ - step) / rate_ : 0.0;
+  const char* to = stops.empty() ? "" : " to the duration";
   if (mode_ == Mode::terminal)
-    std::fprintf(stderr, "\r t = %.4g s  %5.1f%%  %.3g steps/s  ETA %.0f s  E_kin %.3g J  %zu contacts   ", time, done,
-                 rate_, eta, physics_.kinetic, physics_.contacts);
+    std::fprintf(stderr, "\r t = %.4g s  %5.1f%%  %.3g steps/s  ETA %.0f s%s  E_kin %.3g J  %zu contacts%s%s   ", time, done,
+                 rate_, eta, to, physics_.kinetic, physics_.contacts, stops.empty() ? "" : "  stop: ", stops.c_str());
   else
-    std::fprintf(stderr, "tsubu: progress: t = %.6g s, step %lld of %lld (%.1f%%), %.3g steps/s, ETA %.0f s, E_kin %.6g J, %zu contacts\n",
-                 time, static_cast<long long>(step), static_cast<long long>(last_step_), done, rate_, eta,
-                 physics_.kinetic, physics_.contacts);
+    std::fprintf(stderr, "tsubu: progress: t = %.6g s, step %lld of %lld (%.1f%%), %.3g steps/s, ETA %.0f s%s, E_kin %.6g J, %zu contacts%s%s\n",
+                 time, static_cast<long long>(step), static_cast<long long>(last_step_), done, rate_, eta, to,
+                 physics_.kinetic, physics_.contacts, stops.empty() ? "" : "; [[stop]] ", stops.c_str());
 }
 
 void Progress::finish() const {

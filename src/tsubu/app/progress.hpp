@@ -24,8 +24,11 @@ class Progress {
   bool active() const { return mode_ != Mode::off; }
   bool due(double now) const { return now >= next_; }
   // After `step` (simulated time `time`); `physics` is called when the last values are
-  // older than 2 s (and for every log line).
-  void report(std::int64_t step, double time, double now, const std::function<ProgressPhysics()>& physics);
+  // older than 2 s (and for every log line). `stops`: where the [[stop]] conditions stand
+  // (AnalysisMonitor::stop_progress), shown after the rest; the percentage and ETA are then
+  // said to count to the duration, which a condition may cut short.
+  void report(std::int64_t step, double time, double now, const std::function<ProgressPhysics()>& physics,
+              const std::string& stops = "");
   void finish() const;  // ends the terminal line
 
  private:

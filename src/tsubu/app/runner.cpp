@@ -84,6 +84,7 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
   j["list_builds"] = s.list_builds;
   j["wall_time_s"] = s.wall_seconds;
   j["loop_time_s"] = s.loop_seconds;
+  j["loop_sessions"] = s.loop_sessions;
   j["particle_steps_per_second"] = s.particle_steps_per_second();
   j["domain"] = {{"lower", {sc.domain.lower.x, sc.domain.lower.y, sc.domain.lower.z}},
                  {"upper", {sc.domain.upper.x, sc.domain.upper.y, sc.domain.upper.z}}};
@@ -97,7 +98,8 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
                         {"wakes", b.wakes},
                         {"evaluation_share_per_level", share}};
   }
-  // Before "results": a resumed run, which no longer knows its sources' ids, leaves it out.
+  // Before "results": a run resumed from a checkpoint of an older tsubu, which did not store
+  // its sources' ids, leaves it out.
   if (!s.sources.empty()) {
     j["sources"] = nlohmann::ordered_json::array();
     for (const SourceSizes& g : s.sources)
@@ -270,6 +272,14 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     last_flush = elapsed();
   };
   std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
+  // The stepping loop's totals over this session and the earlier ones the checkpoint counts.
+  const Checkpoint::Record earlier = from ? from->record : Checkpoint::Record{};
+  std::int64_t session_steps = 0;
+  double session_seconds = 0;
+  auto record = [&] {
+    return Checkpoint::Record{true, world.source_ids, earlier.loop_seconds + session_seconds,
+                              earlier.loop_steps + session_steps, earlier.loop_sessions + 1};
+  };
 
   // Everything after a completed step; output files are flushed and synced first, so a
   // checkpoint never refers to rows that are not on disk.
@@ -280,6 +290,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     store_simulation(sc, sim, c);
     c.run_id = run_id;
     c.energy_watch = energy_watch.state();
+    c.record = record();
     c.wall_seconds = wall_before + elapsed();
     c.output.frame = frames.count();
     c.output.pvd = frames.frames();
@@ -310,6 +321,10 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     summary.list_builds = forces.rebuilds();
     summary.particle_force_evaluations = sim.particle_force_evaluations();
     if (const BlockHermite* b = sim.block()) summary.block_steps = b->stats();
+    const Checkpoint::Record r = record();
+    summary.loop_steps = r.loop_steps;
+    summary.loop_seconds = r.loop_seconds;
+    summary.loop_sessions = r.loop_sessions;
   };
 
   const std::string json = (fs::path(out_dir) / "run.json").string();
@@ -349,8 +364,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const auto loop_start = std::chrono::steady_clock::now();
     for (std::int64_t s = loop_first; s <= steps && stop_reason.empty(); ++s) {
       sim.step();
-      summary.loop_steps = s - loop_first + 1;
-      summary.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
+      session_steps = s - loop_first + 1;
+      session_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % series_every == 0 || s == steps) write_series();
       const bool last = s == steps || !stop_reason.empty();
       if (s % track_every == 0 || last) write_track();
@@ -370,7 +385,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
         save_checkpoint();
       else if (elapsed() - last_flush >= 1.0)
         flush_rows();
-      if (report.active() && report.due(elapsed())) report.report(s, world.time, elapsed(), physics);
+      if (report.active() && report.due(elapsed()))
+        report.report(s, world.time, elapsed(), physics, monitor.stop_progress(inflow && inflow->ended()));
     }
     report.finish();
     if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
@@ -438,15 +454,16 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
   auto is_set = [&](std::string_view key) {
     return std::any_of(sets.begin(), sets.end(), [&](const std::string& set) { return key_of(set) == key; });
   };
+  std::vector<std::string> overrides = run.overrides;
+  overrides.insert(overrides.end(), sets.begin(), sets.end());
+  // Loaded first: a key the scenario does not know, or a bad value, is reported as such.
+  const Scenario changed = load_scenario_text(run.text, run.file, overrides, false);
   for (const std::string& set : sets)
     if (std::find(kResumeKeys.begin(), kResumeKeys.end(), key_of(set)) == kResumeKeys.end())
       throw InputError("--set " + set, 1, key_of(set),
                        "cannot change on resume: it could change the steps already taken or the outputs already "
                        "written; a resume may set simulation.duration, output.series_interval, output.vtk_interval, "
                        "output.track_interval, output.checkpoint_every_steps and output.checkpoint_every_seconds");
-  std::vector<std::string> overrides = run.overrides;
-  overrides.insert(overrides.end(), sets.begin(), sets.end());
-  const Scenario changed = load_scenario_text(run.text, run.file, overrides, false);
   std::vector<std::string> pins;
   auto pin = [&](const char* key, double was, double now) {
     char text[64];

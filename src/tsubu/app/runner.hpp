@@ -18,11 +18,13 @@ struct RunSummary {
   std::uint64_t list_builds = 0;  // neighbour-list builds
   std::uint64_t particle_force_evaluations = 0;  // see Simulation::particle_force_evaluations
   std::optional<BlockStepStats> block_steps;     // block-step runs
-  double wall_seconds = 0;
-  // The stepping loop of this session alone (no set-up, first evaluation, or final
-  // checkpoint), like the peers' "Loop time": particle-steps per second come from these.
+  double wall_seconds = 0;  // all sessions
+  // The stepping loops (no set-up, first evaluation, or final checkpoint), like the peers'
+  // "Loop time", of loop_sessions sessions: all of a run's, but those before a resume from a
+  // checkpoint of an older tsubu. Particle-steps per second come from these.
   std::int64_t loop_steps = 0;
   double loop_seconds = 0;
+  std::int64_t loop_sessions = 0;
   double particle_steps_per_second() const {
     return loop_seconds > 0 ? static_cast<double>(particles) * static_cast<double>(loop_steps) / loop_seconds : 0.0;
   }

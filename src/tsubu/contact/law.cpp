@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace tsubu {
 
@@ -12,6 +13,34 @@ double effective_modulus(const Material& a, const Material& b) {
 double effective_shear_modulus(const Material& a, const Material& b) {
   auto term = [](const Material& m) { return 2 * (2 - m.poisson) * (1 + m.poisson) / m.youngs_modulus; };
   return 1.0 / (term(a) + term(b));
+}
+
+double contact_time(const NormalModel& model, double m_eff, double r_eff, double u) {
+  return std::visit(
+      [&](const auto& n) -> double {
+        using N = std::decay_t<decltype(n)>;
+        if constexpr (std::is_same_v<N, HookeHysteresis>)
+          return M_PI * std::sqrt(m_eff / (n.c_k2 * n.k_n(r_eff, m_eff)));
+        else if constexpr (std::is_same_v<N, EnergyConserving> || std::is_same_v<N, EnergyConserving2005>)
+          return M_PI * std::sqrt(m_eff / n.k_n);
+        else
+          return n.collision_time(m_eff, r_eff, u);
+      },
+      model);
+}
+
+double peak_overlap(const NormalModel& model, double m_eff, double r_eff, double u) {
+  return std::visit(
+      [&](const auto& n) -> double {
+        using N = std::decay_t<decltype(n)>;
+        if constexpr (std::is_same_v<N, HertzTsuji> || std::is_same_v<N, HertzSediment>)
+          return std::pow(15 * m_eff * u * u / (16 * n.e_star * std::sqrt(r_eff)), 0.4);
+        else if constexpr (std::is_same_v<N, HookeHysteresis>)
+          return u * std::sqrt(m_eff / n.k_n(r_eff, m_eff));
+        else
+          return u * std::sqrt(m_eff / n.k_n);
+      },
+      model);
 }
 
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {

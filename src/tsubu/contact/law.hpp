@@ -63,6 +63,20 @@ inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangenti
   return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v, fn.damping.v, tangential.dashpot_ratio() * fn.damping.v};
 }
 
+// A dt below this share of a contact's duration resolves it (20 steps per contact; the
+// suggestion of `tsubu check`); a contact of fewer steps may be an error of dt.
+constexpr double kStepsPerContact = 20;
+
+// How long a collision of the model lasts at approach speed u (m_eff, r_eff: the pair's
+// effective mass and radius). The linear springs' half period does not depend on u; for
+// model HH it is the half period of its stiffest line, k2max, which unloading follows after a
+// deep contact.
+double contact_time(const NormalModel& model, double m_eff, double r_eff, double u);
+// The overlap at which a head-on collision at approach speed u stops, elastically (without
+// damping, which makes it shallower): u sqrt(m*/k) for the linear springs (model HH: its
+// loading line k_n), (15 m* u^2 / (16 E* sqrt(R*)))^(2/5) for Hertz.
+double peak_overlap(const NormalModel& model, double m_eff, double r_eff, double u);
+
 // What a scenario says about a material pair, before the materials are known.
 struct ContactSpec {
   std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | hooke_hysteresis | energy_conserving[_2005]

@@ -5,11 +5,20 @@
 
 namespace tsubu {
 
+// Where a value came from: its file and line, or its --set ("--set key=value", line 1), and
+// its key; kept for checks made after loading (CSV rows, particle overlaps, the sizes).
+struct SourceLocation {
+  std::string file;
+  long line = 0;
+  std::string key;
+};
+
 // Bad input: "file:line: key: what is wrong and what is allowed". Exit code 2.
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, long line, const std::string& key, const std::string& what)
       : std::runtime_error(file + ":" + std::to_string(line) + ": " + (key.empty() ? "" : key + ": ") + what) {}
+  InputError(const SourceLocation& at, const std::string& what) : InputError(at.file, at.line, at.key, what) {}
 };
 
 // A mistake on the command line or in the choice of output folder that has no file:line

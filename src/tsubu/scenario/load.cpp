@@ -177,7 +177,7 @@ void read_simulation(Section s, Scenario& sc) {
 void read_domain(Section s, Scenario& sc) {
   sc.domain.lower = s.vec3("lower");
   sc.domain.upper = s.vec3("upper");
-  sc.domain_where = {s.file(), s.line(), s.path()};
+  sc.domain_where = s.where();
   for (int k = 0; k < 3; ++k)
     if (!(sc.domain.upper[k] > sc.domain.lower[k])) s.fail("upper", "must be above domain.lower on every axis");
   for (const std::string& axis : s.texts("periodic", {})) {
@@ -466,7 +466,8 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
 
 void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder, bool particle_files) {
   ParticleSource src;
-  src.where = {s.file(), s.line(), s.path()};
+  src.where = s.where();
+  src.key_where = s.key_locations();
   const std::string kind = s.choice("source", {"csv", "file", "lattice", "random", "inflow"}, std::nullopt);
   // A file source's rows name their own materials.
   if (kind != "file") src.material = material_index(sc, s, "material");
@@ -514,7 +515,7 @@ void read_output(Section s, Scenario& sc) {
   if (sc.output.checkpoint_every_steps < 0) s.fail("checkpoint_every_steps", "must be >= 0 (0: none by step count)");
   sc.output.checkpoint_every_seconds = s.real("checkpoint_every_seconds", 600);
   if (!(sc.output.checkpoint_every_seconds >= 0)) s.fail("checkpoint_every_seconds", "must be >= 0 (0: none by wall-clock time)");
-  sc.output.where = {s.file(), s.line_of("track"), s.key_path("track")};
+  sc.output.where = s.where("track");
   s.finish();
 }
 
@@ -545,7 +546,7 @@ void read_fluid(Section s, Scenario& sc) {
       s.fail("hindered_ball_ratio", "the ball around each grain must be at least 2.5 grain radii (default 3)" + got(f.hindered_ball_ratio));
   }
   if (f.hindered && !f.drag) s.fail("hindered_settling", "hinders the drag: it needs drag = true");
-  sc.fluid_where = {s.file(), s.line_of("hindered_ball_ratio"), s.key_path("hindered_ball_ratio")};
+  sc.fluid_where = s.where("hindered_ball_ratio");
   const std::string lift = s.choice("lift", {"none", "kurose_komori", "loth"}, "none");
   f.lift = lift == "kurose_komori" ? SpinModel::kurose_komori : lift == "loth" ? SpinModel::loth : SpinModel::none;
   if (auto t = s.table("kurose_komori")) {

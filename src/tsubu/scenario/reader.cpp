@@ -70,14 +70,26 @@ std::string Section::key_path(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
-void Section::fail(std::string_view key, const std::string& what) const {
+SourceLocation Section::where(std::string_view key) const {
   const toml::node* n = table_->get(key);
+  return {origin(n ? n : table_, file_), line_of(key), key_path(key)};
+}
+
+SourceLocation Section::where() const { return {origin(table_, file_), line(), path_}; }
+
+std::vector<SourceLocation> Section::key_locations() const {
+  std::vector<SourceLocation> out;
+  for (const auto& [k, v] : *table_) out.push_back(where(k.str()));
+  return out;
+}
+
+void Section::fail(std::string_view key, const std::string& what) const {
   std::string hint;  // a missing key may be a misspelt one
-  if (!n)
+  if (!table_->contains(key))
     for (const auto& [k, v] : *table_)
       if (!asked_.count(k.str()) && edit_distance(k.str(), key) < 3)
         hint = " (line " + std::to_string(v.source().begin.line) + " has '" + std::string(k.str()) + "': a typo?)";
-  throw InputError(origin(n, file_), line_of(key), key_path(key), what + hint);
+  throw InputError(where(key), what + hint);
 }
 
 const toml::node& Section::node(std::string_view key) {

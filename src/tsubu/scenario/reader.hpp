@@ -11,6 +11,7 @@
 
 #include <toml++/toml.h>
 
+#include "tsubu/core/error.hpp"
 #include "tsubu/core/vec3.hpp"
 
 namespace tsubu {
@@ -20,13 +21,17 @@ class Section {
   Section(const toml::table& table, std::string path, std::string file);
 
   const std::string& path() const { return path_; }
-  const std::string& file() const { return file_; }
   long line() const;
   long line_of(std::string_view key) const;
   bool has(std::string_view key) const;
   std::string key_path(std::string_view key) const;
 
   [[noreturn]] void fail(std::string_view key, const std::string& what) const;
+  // Where a key's value came from: its line, or the --set that gave it; for an absent key, the
+  // table's (the --set that gave the table, or its line). where() is the table's own.
+  SourceLocation where(std::string_view key) const;
+  SourceLocation where() const;
+  std::vector<SourceLocation> key_locations() const;  // where() of every key the table holds
 
   double real(std::string_view key);  // required
   double real(std::string_view key, double fallback);

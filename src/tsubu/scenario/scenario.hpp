@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tsubu/contact/law.hpp"
+#include "tsubu/core/error.hpp"
 #include "tsubu/core/size_distribution.hpp"
 #include "tsubu/scenario/deposit_rules.hpp"
 #include "tsubu/fluid/fluid.hpp"
@@ -16,17 +17,17 @@
 
 namespace tsubu {
 
-// Where a value came from, for errors found after loading (CSV rows, particle overlaps).
-struct SourceLocation {
-  std::string file;
-  long line = 0;
-  std::string key;
-};
-
 struct ParticleSource {
   enum class Kind { csv, file, lattice, random, inflow };
   Kind kind = Kind::csv;
-  SourceLocation where;
+  SourceLocation where;                 // the [[particles]] table
+  std::vector<SourceLocation> key_where;  // each of its keys: its line or the --set that gave it
+  // Where `key` of the table came from, for errors found after loading.
+  SourceLocation at(const std::string& key) const {
+    for (const SourceLocation& k : key_where)
+      if (k.key == where.key + "." + key) return k;
+    return {where.file, where.line, where.key + "." + key};
+  }
   int material = 0;
   std::string file;                // csv, file: path (resolved against the scenario's folder)
   double overlap_tolerance = 0.01; // csv, file: largest allowed overlap / smaller diameter

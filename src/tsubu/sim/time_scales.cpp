@@ -22,23 +22,6 @@ std::string fmt(double v) {
 
 double sphere_mass(double rho, double d) { return rho * M_PI * d * d * d / 6; }
 
-// How long a collision of the model lasts at approach speed u. The linear springs' half
-// period does not depend on u; for model HH it is the half period of its stiffest line,
-// k2max, which unloading follows after a deep contact.
-double contact_time(const NormalModel& model, double m_eff, double r_eff, double u) {
-  return std::visit(
-      [&](const auto& n) -> double {
-        using N = std::decay_t<decltype(n)>;
-        if constexpr (std::is_same_v<N, HookeHysteresis>)
-          return M_PI * std::sqrt(m_eff / (n.c_k2 * n.k_n(r_eff, m_eff)));
-        else if constexpr (std::is_same_v<N, EnergyConserving> || std::is_same_v<N, EnergyConserving2005>)
-          return M_PI * std::sqrt(m_eff / n.k_n);
-        else
-          return n.collision_time(m_eff, r_eff, u);
-      },
-      model);
-}
-
 const char* model_name(const NormalModel& model) {
   return std::visit([](const auto& n) { return std::decay_t<decltype(n)>::name; }, model);
 }
@@ -102,20 +85,23 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
 }
 
 // The shortest collision over every pair of the grains and every wall (a material with a
-// single grain and no inflow has no pairs of its own).
+// single grain and no inflow has no pairs of its own), and the deepest overlap of one at the
+// impact speed.
 void shortest_contact(const Scenario& sc, const World& w, const LawTable& laws, TimeScales& ts) {
   ts.shortest_contact = INFINITY;
   std::vector<bool> several(sc.materials.size(), false);
   std::vector<std::size_t> count(sc.materials.size(), 0);
   for (int m : w.particles.material) several[static_cast<std::size_t>(m)] = ++count[static_cast<std::size_t>(m)] > 1;
   if (const ParticleSource* src = inflow_source(sc)) several[static_cast<std::size_t>(src->material)] = true;
-  auto consider = [&](const PairLaw& law, double m_eff, double r_eff, const std::string& what) {
+  auto consider = [&](const PairLaw& law, double m_eff, double r_eff, double d_small, const std::string& what) {
     const double t = contact_time(law.normal, m_eff, r_eff, ts.impact_speed);
     if (t < ts.shortest_contact) {
       ts.shortest_contact = t;
       ts.shortest_contact_what = what + ", " + model_name(law.normal);
       ts.contact_resolution_matters = !exact_whatever_dt(law.normal);
     }
+    const double overlap = peak_overlap(law.normal, m_eff, r_eff, ts.impact_speed) / d_small;
+    if (overlap > ts.deepest_overlap) ts.deepest_overlap = overlap, ts.deepest_overlap_what = what + ", " + model_name(law.normal);
   };
   auto name = [&](const GrainTimes& x) { return fmt(x.diameter) + " m " + sc.materials[x.material].name; };
   for (std::size_t a = 0; a < ts.grains.size(); ++a) {
@@ -125,10 +111,12 @@ void shortest_contact(const Scenario& sc, const World& w, const LawTable& laws, 
       const GrainTimes& gb = ts.grains[b];
       if (ga.material == gb.material && !several[static_cast<std::size_t>(ga.material)]) continue;  // one grain alone
       const double mb = sphere_mass(sc.materials[gb.material].density, gb.diameter), rb = gb.diameter / 2;
-      consider(laws.at(ga.material, gb.material), ma * mb / (ma + mb), ra * rb / (ra + rb), name(ga) + " on " + name(gb));
+      consider(laws.at(ga.material, gb.material), ma * mb / (ma + mb), ra * rb / (ra + rb), 2 * std::min(ra, rb),
+               name(ga) + " on " + name(gb));
     }
     for (const Wall& wall : w.walls)
-      consider(laws.at(ga.material, wall.material), ma, ra, name(ga) + " on a " + sc.materials[wall.material].name + " wall");
+      consider(laws.at(ga.material, wall.material), ma, ra, ga.diameter,
+               name(ga) + " on a " + sc.materials[wall.material].name + " wall");
   }
 }
 
@@ -186,6 +174,22 @@ void judge_dt(const Scenario& sc, TimeScales& ts) {
                           " of it, " + fmt(kRelaxationShare) + " suggested: dt <= " + fmt(ts.suggested_dt) + " s");
 }
 
+// Below this many touching contacts a grain, grains under gravity start apart: they will
+// fall and pack (a packed bed has about 3 a grain, pairs and walls counted once).
+constexpr double kLooseContacts = 1;
+
+// Why a sample of the start cannot tell the run's cost (empty when it can).
+std::string why_no_estimate(const Scenario& sc, std::size_t grains, double contacts_per_grain) {
+  if (inflow_source(sc))
+    return "the inflow brings its grains during the run, and the cost of a step grows with them (the sample holds the " +
+           std::to_string(grains) + " present at the start)";
+  if (grains > 0 && norm(sc.gravity) > 0 && contacts_per_grain < kLooseContacts)
+    return "the grains start apart (" + fmt(contacts_per_grain) +
+           " contacts a grain) and will fall and pack; a packed bed, and the neighbour lists rebuilt while the grains "
+           "fall, cost several times more a step than the start (5 to 60 times in the settling beds measured)";
+  return "";
+}
+
 }  // namespace
 
 double rayleigh_time(const Material& m, double d) {
@@ -218,6 +222,14 @@ TimeScales time_scales(const Scenario& sc, const World& w) {
   shortest_contact(sc, w, laws, ts);
   ts.steps = std::llround(sc.duration / sc.dt);
   judge_dt(sc, ts);
+  // Whatever dt is, grains too soft for their impact speed press deeper than the limit.
+  if (ts.deepest_overlap > sc.overlap_limit)
+    ts.warnings.push_back("a collision at the impact speed, " + fmt(ts.impact_speed) + " m/s (" + ts.impact_reason + "), presses " +
+                          ts.deepest_overlap_what + " to an overlap of " + fmt(ts.deepest_overlap) +
+                          " of the smaller diameter (elastic estimate; damping makes it shallower), beyond "
+                          "simulation.overlap_limit = " + fmt(sc.overlap_limit) + ": the run would stop whatever dt is; "
+                          "the grains are too soft for this speed: a stiffer material (youngs_modulus) or a larger "
+                          "simulation.overlap_limit");
   return ts;
 }
 
@@ -239,6 +251,10 @@ WallTimeEstimate estimate_wall_time(const Scenario& sc, World world, std::int64_
   }
   if (e.sampled_steps > 0)
     e.run_seconds = e.sample_seconds / static_cast<double>(e.sampled_steps) * static_cast<double>(std::llround(sc.duration / sc.dt));
+  e.particles = sim.world().particles.size();
+  if (e.particles > 0 && e.failure.empty())
+    e.contacts_per_grain = static_cast<double>(sim.forces().totals(sim.world()).contacts) / static_cast<double>(e.particles);
+  e.cannot = why_no_estimate(sc, e.particles, e.contacts_per_grain);
   return e;
 }
 

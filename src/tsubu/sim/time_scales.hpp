@@ -12,9 +12,8 @@
 
 namespace tsubu {
 
-// A dt below this share of the shortest contact is suggested for fixed steps (20 steps per
-// contact); above kFewestContactSteps steps per contact a fixed step is an error in waiting.
-constexpr double kStepsPerContact = 20;
+// A dt below 1/kStepsPerContact (contact/law.hpp) of the shortest contact is suggested for
+// fixed steps; below kFewestContactSteps steps per contact a fixed step is an error in waiting.
 constexpr double kFewestContactSteps = 10;
 // A fixed dt below this share of the shortest drag relaxation time is suggested (the explicit
 // drag's relative error is dt/(2 tau)); above kLargestRelaxationShare of it, a warning.
@@ -43,6 +42,8 @@ struct TimeScales {
   double shortest_contact = 0;       // s, over every pair of the grains above and every wall
   std::string shortest_contact_what; // which pair, and its normal model
   bool contact_resolution_matters = true;  // false with models P and F (exact whatever dt)
+  double deepest_overlap = 0;        // the largest peak overlap / smaller diameter at the impact speed
+  std::string deepest_overlap_what;  // which pair, and its normal model
   double shortest_relaxation = 0;    // s, infinite without a fluid's drag
   double suggested_dt = 0;           // s
   std::string suggestion;            // how suggested_dt follows from the rules
@@ -57,12 +58,20 @@ TimeScales time_scales(const Scenario& scenario, const World& world);
 
 // The wall time of the run from a short sample: the world is stepped (at most
 // `max_steps` steps, stopping once `budget_s` seconds have passed) and the time per step
-// is multiplied by the run's steps.
+// is multiplied by the run's steps. That is an estimate (within about 2x) only while the
+// grains stay as they start, packed or apart: a step's cost follows the grains present, their
+// contacts and how often their neighbour lists are rebuilt. When the run will change them
+// (an inflow brings its grains; grains that start apart fall and pack, a packed bed costing
+// several times more a step, and rebuild their lists as they fall), `cannot` says so and the
+// sample's cost is a lower bound.
 struct WallTimeEstimate {
   std::int64_t sampled_steps = 0;
-  double sample_seconds = 0;   // the sampled steps alone, without the first force evaluation
-  double run_seconds = 0;      // the estimate for the whole run
-  std::string failure;         // the sample stopped with a numerical failure (the message)
+  double sample_seconds = 0;      // the sampled steps alone, without the first force evaluation
+  double run_seconds = 0;         // the sample's cost per step times the run's steps
+  std::size_t particles = 0;      // present in the sample
+  double contacts_per_grain = 0;  // touching contacts (pairs and walls) per grain after the sample
+  std::string cannot;             // why run_seconds is only a lower bound; empty when it is the estimate
+  std::string failure;            // the sample stopped with a numerical failure (the message)
 };
 WallTimeEstimate estimate_wall_time(const Scenario& scenario, World world, std::int64_t max_steps, double budget_s);
 

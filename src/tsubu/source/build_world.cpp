@@ -17,10 +17,6 @@ namespace tsubu {
 
 namespace {
 
-[[noreturn]] void fail_at(const SourceLocation& at, const std::string& what) {
-  throw InputError(at.file, at.line, at.key, what);
-}
-
 std::string format_vec(const Vec3& x) {
   std::ostringstream s;
   s << "(" << x.x << ", " << x.y << ", " << x.z << ")";
@@ -64,7 +60,7 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
     s << "particle overlaps the one from " << b.where.file << ":" << b.where.line << " by " << ratio
       << " of the smaller diameter; allowed up to " << std::min(tolerance[i], tolerance[earliest])
       << " (overlap_tolerance of csv and file sources; lattice and random particles may only touch)";
-    fail_at(grains[i].where, s.str());
+    throw InputError(grains[i].where, s.str());
   }
 }
 
@@ -82,7 +78,7 @@ void check_walls(const World& w, double overlap_limit, const std::vector<Grain>&
         s << "particle centre " << format_vec(p.position[i]) << " (diameter " << 2 * p.radius[i] << " m) starts inside wall "
           << k << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << overlap_limit
           << " (move the particle or the wall)";
-        fail_at(grains[i].where, s.str());
+        throw InputError(grains[i].where, s.str());
       }
     }
 }
@@ -95,8 +91,7 @@ void check_tracked(const Scenario& sc, const World& w) {
   const bool inflow = inflow_source(sc) != nullptr;
   for (std::int64_t id : sc.output.track)
     if (id < 0 || (id >= n && !inflow))
-      throw InputError(sc.output.where.file, sc.output.where.line, sc.output.where.key,
-                       "no particle has id " + std::to_string(id) + "; ids run from 0 to " + std::to_string(n - 1) +
+      throw InputError(sc.output.where, "no particle has id " + std::to_string(id) + "; ids run from 0 to " + std::to_string(n - 1) +
                            " in the order of [[particles]]");
 }
 
@@ -113,7 +108,7 @@ void check_inflow_slab(const Scenario& sc, const ParticleSource& src) {
     << " grains of this distribution (a mean grain volume of " << mean_grain_volume(c.sizes)
     << " m^3); this machine holds at most " << particle_limit()
     << " particles: narrow the distribution (a larger smallest diameter) or lower solid_fraction";
-  fail_at({src.where.file, src.where.line, src.where.key + ".distribution"}, s.str());
+  throw InputError(src.at("distribution"), s.str());
 }
 
 }  // namespace
@@ -174,7 +169,7 @@ World build_world(const Scenario& sc) {
     const bool from_file = src.kind == ParticleSource::Kind::csv || src.kind == ParticleSource::Kind::file;
     for (auto& grain : g) {
       if (!sc.domain.inside(grain.position))
-        fail_at(grain.where, "particle centre " + format_vec(grain.position) + " is outside the domain " +
+        throw InputError(grain.where, "particle centre " + format_vec(grain.position) + " is outside the domain " +
                                  format_vec(sc.domain.lower) + " - " + format_vec(sc.domain.upper));
       grain.position = sc.domain.wrap(grain.position);
       const int material = grain.material >= 0 ? grain.material : src.material;
@@ -190,7 +185,7 @@ World build_world(const Scenario& sc) {
         s << "the diameter " << grain.diameter << " m gives a mass of " << mass << " kg and a moment of inertia of "
           << inertia << " kg m^2 (density " << mat.density
           << " kg/m^3); diameters are in metres and must give a finite, non-zero mass and inertia";
-        fail_at(grain.where, s.str());
+        throw InputError(grain.where, s.str());
       }
       // Every energy of series.csv sums these: each must be a finite double.
       const std::size_t i = w.particles.size() - 1;
@@ -200,7 +195,7 @@ World build_world(const Scenario& sc) {
           << " rad/s give a kinetic energy of " << w.particles.translational_energy(i) << " J and a rotational energy of "
           << w.particles.rotational_energy(i) << " J (diameter " << grain.diameter
           << " m); they must give finite energies (velocities in m/s, spins in rad/s)";
-        fail_at(grain.where, s.str());
+        throw InputError(grain.where, s.str());
       }
       grains.push_back(grain);
       // Generated grains may touch (a lattice at spacing = diameter); allow for round-off.
@@ -220,7 +215,7 @@ World build_world(const Scenario& sc) {
       std::ostringstream s;
       s << "the periodic length along " << "xyz"[k] << " (" << sc.domain.length(k)
         << " m) must be at least twice the largest diameter (" << d_max << " m)";
-      fail_at(sc.domain_where, s.str());
+      throw InputError(sc.domain_where, s.str());
     }
   // Hindered settling sums each grain's neighbours once, at their nearest image: a ball of c
   // radii around the largest grain, with a largest grain at its edge, must fit in half the
@@ -232,7 +227,7 @@ World build_world(const Scenario& sc) {
       s << "a ball of " << c << " radii around the largest grain (" << d_max << " m) and a grain at its edge need a periodic length of at least (ratio + 1) d_max = "
         << (c + 1) * d_max << " m, but the length along " << "xyz"[k] << " is " << sc.domain.length(k)
         << " m; allowed: a ratio up to " << sc.domain.length(k) / d_max - 1;
-      fail_at(sc.fluid_where, s.str());
+      throw InputError(sc.fluid_where, s.str());
     }
   check_overlaps(w, grains, tolerance);
   check_walls(w, sc.overlap_limit, grains);

@@ -44,7 +44,7 @@ std::string too_many(double count) {
 
 std::vector<Grain> read_csv_grains(const ParticleSource& src) {
   std::ifstream in(src.file);
-  if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
+  if (!in) throw InputError(src.at("file"), "cannot open \"" + src.file + "\"");
   return parse_csv_grains(in, src.file);
 }
 
@@ -113,7 +113,7 @@ std::vector<Grain> parse_csv_grains(std::istream& in, const std::string& name) {
 
 std::vector<Grain> read_state_grains(const ParticleSource& src, std::size_t materials) {
   std::ifstream in(src.file);
-  if (!in) throw InputError(src.where.file, src.where.line, src.where.key + ".file", "cannot open \"" + src.file + "\"");
+  if (!in) throw InputError(src.at("file"), "cannot open \"" + src.file + "\"");
   return parse_state_grains(in, src.file, materials);
 }
 
@@ -144,11 +144,11 @@ std::vector<Grain> lattice_grains(const ParticleSource& src) {
   for (int k = 0; k < 3; ++k) {
     per_axis[k] = std::floor((src.upper[k] - src.lower[k] - src.diameter) / src.spacing + 1e-9) + 1;
     if (per_axis[k] < 1)
-      throw InputError(src.where.file, src.where.line, src.where.key, "the region is smaller than one diameter");
+      throw InputError(src.where, "the region is smaller than one diameter");
     total *= per_axis[k];
   }
   if (total > static_cast<double>(particle_limit()))
-    throw InputError(src.where.file, src.where.line, src.where.key + ".spacing", too_many(total));
+    throw InputError(src.at("spacing"), too_many(total));
   const int count[3] = {static_cast<int>(per_axis[0]), static_cast<int>(per_axis[1]), static_cast<int>(per_axis[2])};
   for (int k = 0; k < count[2]; ++k)
     for (int j = 0; j < count[1]; ++j)
@@ -169,12 +169,12 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
       std::ostringstream s;
       s << "drew the diameter " << d << " m: these parameters give diameters that cannot be simulated "
         << "(they must be finite and > 0, in metres; a talbot exponent far from 0 to 6 overflows)";
-      throw InputError(src.where.file, src.where.line, src.where.key + ".distribution", s.str());
+      throw InputError(src.at("distribution"), s.str());
     }
     diameters.push_back(d);
     volume += M_PI / 6 * d * d * d;
     if (diameters.size() > limit)
-      throw InputError(src.where.file, src.where.line, src.where.key + ".solid_fraction",
+      throw InputError(src.at("solid_fraction"),
                        too_many(target / (volume / static_cast<double>(diameters.size()))));
   }
   std::sort(diameters.rbegin(), diameters.rend());
@@ -196,7 +196,7 @@ std::vector<Grain> random_grains(const ParticleSource& src, const Domain& domain
       placed = true;
     }
     if (!placed)
-      throw InputError(src.where.file, src.where.line, src.where.key + ".solid_fraction",
+      throw InputError(src.at("solid_fraction"),
                        "could not place grain " + std::to_string(n + 1) + " of " + std::to_string(diameters.size()) +
                            " without overlap; lower the solid fraction or enlarge the region");
   }
