@@ -403,14 +403,14 @@ namespace {
 
 // How many steps of dt a collision of contact c's pair lasts at the speed of the one grain
 // relative to the other (or to the wall) now.
-double steps_per_contact(const World& world, const Contact& c, bool wall) {
+double steps_per_contact(const World& world, const LawTable& laws, const Contact& c, bool wall) {
   const Particles& p = world.particles;
   const std::size_t a = c.i, b = c.j;
   const double m_eff = wall ? p.mass[a] : p.mass[a] * p.mass[b] / (p.mass[a] + p.mass[b]);
   const double r_eff = wall ? p.radius[a] : p.radius[a] * p.radius[b] / (p.radius[a] + p.radius[b]);
   const double speed = norm(p.velocity[a] - (wall ? world.walls[b].velocity : p.velocity[b]));
   const int other = wall ? world.walls[b].material : p.material[b];
-  return contact_time(model_->laws.at(p.material[a], other).normal, m_eff, r_eff, speed) / world.dt;
+  return contact_time(laws.at(p.material[a], other).normal, m_eff, r_eff, speed) / world.dt;
 }
 
 }  // namespace
@@ -456,7 +456,7 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
     msg << "with block steps each particle's step is dt/2^level, set by the step rules: a step was too long for this"
            " contact; tighten [simulation.block_steps] (kappa_c for contacts, eta_gap for approaching grains,"
            " eta_damping for dashpots), whatever dt is";
-  else if (const double steps = worst ? steps_per_contact(world, *worst, wall) : 0; steps >= kStepsPerContact)
+  else if (const double steps = worst ? steps_per_contact(world, model_->laws, *worst, wall) : 0; steps >= kStepsPerContact)
     msg << "the contact lasts about " << steps << " steps of dt = " << world.dt
         << " s at the pair's speed now, so dt is not the cause (dt/4 stops the same way): the overlap is physical, the "
            "grains are too soft for this load or impact speed; use a stiffer material (youngs_modulus) or a larger "
