@@ -10,6 +10,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "tsubu/core/hash.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/source/build_world.hpp"
 
@@ -52,11 +53,6 @@ constexpr char kMagic[8] = {'T', 'S', 'U', 'B', 'U', 'C', 'K', 'P'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304u;
 constexpr std::size_t kHeaderSize = 32;
 
-std::uint64_t fnv1a64(const char* data, std::size_t n, std::uint64_t h = 1469598103934665603ULL) {
-  for (std::size_t k = 0; k < n; ++k) h = (h ^ static_cast<unsigned char>(data[k])) * 1099511628211ULL;
-  return h;
-}
-
 // The 32-byte header: magic, version, byte-order mark, payload size, FNV-1a 64 of the payload.
 std::string header(std::uint64_t size, std::uint64_t sum) {
   std::string out(kHeaderSize, '\0');
@@ -77,7 +73,7 @@ class Writer {
  public:
   explicit Writer(std::string* out) : bytes_(out) {}
   explicit Writer(int fd, const std::filesystem::path& name) : fd_(fd), name_(name) {}
-  std::uint64_t size = 0, checksum = fnv1a64(nullptr, 0);
+  std::uint64_t size = 0, checksum = kFnv1aStart;
   template <class T>
   void pod(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -115,7 +111,7 @@ class Writer {
   void raw(const void* data, std::size_t n) {
     if (n == 0) return;
     const char* d = static_cast<const char*>(data);
-    checksum = fnv1a64(d, n, checksum);
+    checksum = fnv1a64({d, n}, checksum);
     size += n;
     std::string& out = bytes_ ? *bytes_ : buffer_;
     out.append(d, n);
@@ -259,7 +255,7 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   if (size != bytes.size() - kHeaderSize)
     throw CheckpointError("truncated: the header announces " + std::to_string(size) + " payload bytes, the file has " +
                           std::to_string(bytes.size() - kHeaderSize));
-  if (fnv1a64(bytes.data() + kHeaderSize, size) != sum) throw CheckpointError("corrupted: checksum mismatch");
+  if (fnv1a64({bytes.data() + kHeaderSize, size}) != sum) throw CheckpointError("corrupted: checksum mismatch");
 
   Reader r(bytes, kHeaderSize);
   Checkpoint c;

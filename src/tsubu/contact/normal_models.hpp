@@ -34,10 +34,13 @@ struct LinearDashpot {
   }
 };
 
+// Hertz's stiffness K = 4/3 E* sqrt(R*) (F = K delta^{3/2}), N/m^{3/2}.
+inline double hertz_stiffness(double e_star, double r_eff) { return (4.0 / 3.0) * e_star * std::sqrt(r_eff); }
+
 // Duration of a Hertz collision at impact speed u (Sota & Watanabe Eq. 20):
 // t_coll = 2.94 (m*^2 / (K^2 u))^{1/5}, K = 4/3 E* sqrt(R*).
 inline double hertz_collision_time(double e_star, double m_eff, double r_eff, double u) {
-  const double K = (4.0 / 3.0) * e_star * std::sqrt(r_eff);
+  const double K = hertz_stiffness(e_star, r_eff);
   return 2.94 * std::pow(m_eff * m_eff / (K * K * u), 0.2);
 }
 
@@ -45,7 +48,7 @@ inline double hertz_collision_time(double e_star, double m_eff, double r_eff, do
 // The block steps compare collision times with other bounds at every contact evaluation,
 // and mostly need no more than the comparison.
 inline bool hertz_collision_longer_than(double e_star, double m_eff, double r_eff, double u, double t) {
-  const double K = (4.0 / 3.0) * e_star * std::sqrt(r_eff);
+  const double K = hertz_stiffness(e_star, r_eff);
   const double s = t / 2.94, s2 = s * s;
   return m_eff * m_eff / (K * K * u) > s2 * s2 * s;
 }
@@ -67,7 +70,7 @@ struct HertzTsuji {
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
     using T = typename G::Number;
     using std::sqrt;
-    const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
+    const double K = hertz_stiffness(e_star, g.r_eff);
     const T root_delta = sqrt(g.delta);
     const T f_el = T(K) * g.delta * root_delta;
     const T eta = T(alpha) * sqrt(T(g.m_eff * K) * root_delta);  // delta^{1/4} inside the root
@@ -95,7 +98,7 @@ struct HertzSediment {
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
     using T = typename G::Number;
     using std::sqrt;
-    const double K = (4.0 / 3.0) * e_star * std::sqrt(g.r_eff);
+    const double K = hertz_stiffness(e_star, g.r_eff);
     const T root_delta = sqrt(g.delta);
     const T f_el = T(K) * g.delta * root_delta;
     const T eta = tsuji_dashpot ? T(alpha) * sqrt(T(K * g.m_eff) * root_delta)

@@ -10,6 +10,7 @@
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
+#include "tsubu/core/hash.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -17,11 +18,6 @@
 namespace tsubu {
 
 namespace {
-
-std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 1469598103934665603ULL) {
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
 
 // A scenario is a few KiB; the cap ends the read of an endless source (/dev/zero, a pipe)
 // with an error instead of exhausting memory.
@@ -808,7 +804,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   sc.file = path;
   sc.text = text;
   sc.overrides = overrides;
-  sc.hash = fnv1a(text);
+  sc.hash = fnv1a64(text);
   toml::table root;
   try {
     root = toml::parse(text, path);
@@ -817,7 +813,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   }
   for (const auto& o : overrides) {
     apply_override(root, o);
-    sc.hash = fnv1a(o, sc.hash);
+    sc.hash = fnv1a64(o, sc.hash);
   }
   const auto folder = std::filesystem::path(path).parent_path();
   Section top(root, "", path);
