@@ -333,7 +333,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      Gathered g;
+      Gathered<false> g;
       g.force = p.mass[i] * model_->gravity;
       if (model_->fluid.enabled) {
         // The still fluid: per particle, at the velocity and spin of the step's end (see

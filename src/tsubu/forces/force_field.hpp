@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "tsubu/fluid/crowding.hpp"
@@ -191,16 +192,21 @@ class ForceField {
   // corrections of models P and F; WithRates, also the forces' and torques' rates, the contacts'
   // step bound, the dashpots' damping over mass and the contacts evaluated from i (is_active:
   // a pair whose first particle is active was evaluated from it).
-  struct Gathered {
+  struct Sums {
     Vec3 force, torque, shift;
     int count = 0, own = 0;  // touching contacts where i is the pair's second, first or a wall's particle
     double deepest = 0;      // m
+  };
+  struct RateSums : Sums {
     Vec3 force_rate, torque_rate;
     double bound = std::numeric_limits<double>::infinity(), damping_over_mass = 0;
     std::uint64_t evaluated = 0;
   };
   template <bool WithRates>
-  [[gnu::always_inline]] void gather(const World& world, std::size_t i, Gathered& g, const std::vector<char>* is_active) const;
+  using Gathered = std::conditional_t<WithRates, RateSums, Sums>;  // the fixed steps' sums carry no rates
+  template <bool WithRates>
+  [[gnu::always_inline]] void gather(const World& world, std::size_t i, Gathered<WithRates>& g,
+                                     const std::vector<char>* is_active) const;
   // Overlap over the smaller diameter of contact k (is_wall: a wall contact).
   double overlap_ratio(const World& world, std::size_t k, bool is_wall) const;
   // block_steps: the block-step evaluation (each particle's step dt/2^level, not dt).

@@ -159,7 +159,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
     const double r = p.radius[i];
-    Gathered g;
+    Gathered<true> g;
     g.force = p.mass[i] * model_->gravity;
     // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
     // where the corrected velocity is known (see BlockHermite::correct).

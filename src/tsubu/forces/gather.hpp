@@ -11,7 +11,8 @@
 namespace tsubu {
 
 template <bool WithRates>
-inline void ForceField::gather(const World& world, std::size_t i, Gathered& g, const std::vector<char>* is_active) const {
+inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithRates>& g,
+                               const std::vector<char>* is_active) const {
   const Particles& p = world.particles;
   const double r = p.radius[i];
   const auto& pairs = world.contacts.pairs();
