@@ -4,17 +4,11 @@
 // evaluate at predicted kinematics; the fixed step is given those kinematics as its state.
 #include <gtest/gtest.h>
 
-#include <cstring>
-
 #include "scenario_run.hpp"
 #include "world_builder.hpp"
 
 namespace tsubu {
 namespace {
-
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
 
 // A bed being poured onto the floor (grains in contact with each other and with the floor,
 // others still falling), without a fluid.
@@ -60,8 +54,8 @@ void expect_same_evaluations(const std::vector<std::string>& law) {
   const ContactTotals totals = fixed_field.totals(fixed);
   ASSERT_GT(totals.contacts, n / 8) << "a bed with contacts";
   EXPECT_EQ(totals.contacts, block_field.totals(block).contacts);
-  EXPECT_TRUE(same_bits(fixed.particles.force, block.particles.force));
-  EXPECT_TRUE(same_bits(fixed.particles.torque, block.particles.torque));
+  EXPECT_TRUE(testing::same_bits(fixed.particles.force, block.particles.force));
+  EXPECT_TRUE(testing::same_bits(fixed.particles.torque, block.particles.torque));
   EXPECT_EQ(fixed.particles.contact_count, block.particles.contact_count);
   // The histories alike (by value: a contact that has just opened keeps a spring of signed
   // zeros after a fixed step, of +0 after a block step; no law reads it before it closes).

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -58,7 +59,7 @@ struct EvaluationRates {
 class ForceField {
  public:
   // The physics the field evaluates; `model` must outlive the field.
-  explicit ForceField(const Model& model) : model_(&model) {}
+  explicit ForceField(const Model& model) : model_(&model), without_rates_(model.laws.without_rates()) {}
   const Model& model() const { return *model_; }
 
   // Evaluates every touching contact and sums forces and torques (with gravity) into
@@ -152,6 +153,7 @@ class ForceField {
     double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
   };
   const Model* model_;
+  std::string without_rates_;  // LawTable::without_rates of the model, found once
   PairSearch grid_;
   static constexpr Crowding kLone{};
   CrowdList crowd_list_;              // built with the lists when the fluid hinders settling

@@ -117,8 +117,8 @@ void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::si
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
-  if (const std::string model = model_->laws.without_rates(); !model.empty())
-    throw std::invalid_argument("the normal model " + model + " has no rates: block steps cannot evaluate it");
+  if (!without_rates_.empty())
+    throw std::invalid_argument("the normal model " + without_rates_ + " has no rates: block steps cannot evaluate it");
   Particles& p = world.particles;
   admit_new_particles(p);
   const ContactList& contacts = world.contacts;

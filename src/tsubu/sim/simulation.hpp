@@ -1,6 +1,7 @@
 // A run's state and its time loop as a library: the world (state), the model (physics), the
-// force field that evaluates one under the other, and the integrator that advances them. The command line drives it (app/runner.cpp), adding
-// files, progress and signals around it; other drivers (Python, MPI) drive the same object.
+// force field that evaluates one under the other, and the integrator that advances them.
+// The command line drives it (app/runner.cpp), adding files, progress and signals around
+// it; other drivers (Python, MPI) drive the same object.
 #pragma once
 #include <cstdint>
 #include <memory>
