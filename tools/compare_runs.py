@@ -25,13 +25,14 @@ import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
-# (name, scenario, overrides): each runs a few seconds.
+# (name, scenario, overrides): each runs a few seconds. Three sort often (search.sort_every), so
+# that the renumbering of every per-particle store is exercised.
 CASES = [
-    ("velocity_verlet", "tests/scenarios/settle_mono.toml", ["simulation.duration=0.05"]),
+    ("velocity_verlet", "tests/scenarios/settle_mono.toml", ["simulation.duration=0.05", "search.sort_every=37"]),
     ("symplectic_euler_model_p", "tests/scenarios/checkpoint_model_p.toml", ["simulation.duration=0.02"]),
     ("block_steps", "tests/scenarios/block_sediment.toml", []),
-    ("block_steps_inflow", "tests/scenarios/rain_small.toml", ["simulation.duration=0.05"]),
-    ("inflow", "tests/scenarios/inflow_small.toml", ["simulation.duration=0.1"]),
+    ("block_steps_inflow", "tests/scenarios/rain_small.toml", ["simulation.duration=0.05", "search.sort_every=3"]),
+    ("inflow", "tests/scenarios/inflow_small.toml", ["simulation.duration=0.1", "search.sort_every=50"]),
     ("hindered_settling", "tests/scenarios/sediment_inflow.toml",
      ["simulation.duration=0.03", "simulation.dt=1e-6", "fluid.hindered_settling=true"]),
     ("moving_walls", "tests/scenarios/contact_network.toml", ["simulation.duration=0.05"]),

@@ -57,7 +57,7 @@ TEST(Diagnostics, LeavingTheDomainNamesTheStepItHappenedIn) {
   w.particles.add(0, 0, 0.002, kGlass.density, {9.99, 0, 0}, {100, 0, 0});
   ForceField f(model);
   f.compute(w);
-  const std::string why = failure_of([&] { velocity_verlet_step(w, f); });
+  const std::string why = failure_of([&] { velocity_verlet_step(w, testing::evaluation(f, w)); });
   EXPECT_NE(why.find("step 1, t = 0.001 s: particle id 0 left the domain"), std::string::npos) << why;
 }
 

@@ -42,7 +42,7 @@ BounceResult bounce(double dt, int n_bounces) {
   bool in_contact = false;
   double previous_vz = 0;
   while (out.bounces < n_bounces) {
-    velocity_verlet_step(w, f);
+    velocity_verlet_step(w, testing::evaluation(f, w));
     const double error = std::abs(energy() - e0) / e0;
     out.worst_anytime = std::max(out.worst_anytime, error);
     const bool touching = f.totals(w).contacts > 0;

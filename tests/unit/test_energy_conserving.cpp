@@ -165,7 +165,7 @@ EngineRun engine_collision(World& w, const Model& model, bool wall) {
   EngineRun r;
   bool touched = false;
   for (int s = 0; s < 100000; ++s) {
-    symplectic_euler_step(w, f);
+    symplectic_euler_step(w, testing::evaluation(f, w));
     if (f.totals(w).contacts > 0) {
       touched = true;
       ++r.contact_steps;
@@ -220,7 +220,7 @@ TEST(ModelFEngine, OutOfRangeStopsWithADiagnostic) {
   ForceField f(model);
   f.compute(w);
   try {
-    for (int s = 0; s < 10; ++s) symplectic_euler_step(w, f);
+    for (int s = 0; s < 10; ++s) symplectic_euler_step(w, testing::evaluation(f, w));
     FAIL() << "the run should have stopped";
   } catch (const NumericalError& e) {
     EXPECT_NE(std::string(e.what()).find("energy_conserving_2005"), std::string::npos) << e.what();

@@ -258,7 +258,7 @@ double settled_speed(Integrator integrator, double d, double spacing, double* ph
     stepper.start(w, forces);
     for (std::int64_t k = 0; k < steps; ++k) stepper.advance(w, forces);
   } else {
-    for (std::int64_t k = 0; k < steps; ++k) advance(integrator, w, forces);
+    for (std::int64_t k = 0; k < steps; ++k) advance(integrator, w, testing::evaluation(forces, w));
   }
   double slowest = INFINITY, fastest = 0;
   for (const Vec3& v : w.particles.velocity) slowest = std::min(slowest, -v.z), fastest = std::max(fastest, -v.z);

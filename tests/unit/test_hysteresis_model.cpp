@@ -249,7 +249,7 @@ TEST(MovingWall, FollowsItsStretchesAndCarriesItsVelocity) {
   bool saw_first_touch = false;
   for (int s = 0; s < 400; ++s) {
     const double before = w.walls[0].point.z;
-    velocity_verlet_step(w, f);
+    velocity_verlet_step(w, testing::evaluation(f, w));
     const double expected_v = s < 200 ? -0.5 : s < 300 ? 0.25 : 0.0;
     EXPECT_EQ(w.walls[0].velocity.z, expected_v) << "step " << s + 1;
     EXPECT_NEAR(w.walls[0].point.z - before, expected_v * 1e-6, 1e-18);

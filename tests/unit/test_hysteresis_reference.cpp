@@ -178,7 +178,7 @@ CaseResult run_case(const Row& c) {
         w.time = static_cast<double>(w.step) * dt;
         f.compute(w);
       } else {
-        velocity_verlet_step(w, f);
+        velocity_verlet_step(w, testing::evaluation(f, w));
       }
       // The lists are rebuilt only between steps of the same contacts here (one or two
       // spheres never move a skin apart within a case), so entry k is the same contact.

@@ -87,7 +87,7 @@ SettlingResult settle(double d, Integrator integrator, double steps_per_scale = 
   SettlingResult r{ut, 0, 0, 0};
   const auto steps = static_cast<std::int64_t>(std::llround(scales * steps_per_scale));
   for (std::int64_t k = 0; k < steps; ++k) {
-    advance(integrator, w, f);
+    advance(integrator, w, testing::evaluation(f, w));
     ref.advance_to(w.time, dt / 8);
     const double v = -w.particles.velocity[0].z;
     r.worst_transient = std::max(r.worst_transient, std::abs(v - ref.v) / ut);
@@ -148,7 +148,7 @@ TEST(SpinDecay, FollowsTheStokesTorque) {
   f.compute(w);
   double worst = 0;
   for (int n = 0; n < 3000; ++n) {
-    velocity_verlet_step(w, f);
+    velocity_verlet_step(w, testing::evaluation(f, w));
     const Vec3 expect = std::exp(-k * w.time) * w0;
     worst = std::max(worst, norm(w.particles.omega[0] - expect) / norm(expect));
   }
@@ -170,7 +170,7 @@ TEST(SettlingVelocityVerlet, SecondOrderInDt) {
     w.particles.add(0, 0, 1e-3, kRhoP, {0, 0, 0}, {});
     ForceField f(model);
     f.compute(w);
-    for (int n = 0; n < std::lround(0.04 / dt); ++n) velocity_verlet_step(w, f);
+    for (int n = 0; n < std::lround(0.04 / dt); ++n) velocity_verlet_step(w, testing::evaluation(f, w));
     return -w.particles.velocity[0].z;
   };
   const double exact = speed_after(2.5e-6);
@@ -193,7 +193,7 @@ TEST(NoFluid, FreeFallUnchanged) {
   w.particles.add(0, 0, 1e-3, kRhoP, {0, 0, 0}, {});
   ForceField f(model);
   f.compute(w);
-  for (int n = 0; n < 100; ++n) velocity_verlet_step(w, f);
+  for (int n = 0; n < 100; ++n) velocity_verlet_step(w, testing::evaluation(f, w));
   EXPECT_EQ(w.particles.translational_mass[0], w.particles.mass[0]);
   EXPECT_NEAR(w.particles.velocity[0].z, -kG * 0.1, 1e-12);
 }
@@ -211,7 +211,7 @@ TEST(SettlingExamples, OneMillimetreScenarioReachesTerminalSpeed) {
   f.compute(w);
   EXPECT_NEAR(w.particles.translational_mass[0], Sphere(1e-3).m + kCm * kRhoF * Sphere(1e-3).volume, 1e-15);
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  for (std::int64_t k = 0; k < steps; ++k) advance(sc.integrator, w, f);
+  for (std::int64_t k = 0; k < steps; ++k) advance(sc.integrator, w, testing::evaluation(f, w));
   const double ut = terminal_speed(Sphere(1e-3));
   EXPECT_NEAR(-w.particles.velocity[0].z, ut, 0.005 * ut);
 }
@@ -228,7 +228,7 @@ TEST(FluidThreads, OneAndTwoThreadsGiveIdenticalBits) {
     EXPECT_TRUE(model.fluid.enabled);
     ForceField f(model);
     f.compute(w);
-    for (int k = 0; k < 100; ++k) advance(sc.integrator, w, f);
+    for (int k = 0; k < 100; ++k) advance(sc.integrator, w, testing::evaluation(f, w));
     omp_set_num_threads(1);
     return w;
   };

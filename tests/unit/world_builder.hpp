@@ -12,6 +12,12 @@ struct Bed {
   Model model;
 };
 
+// The force evaluation the fixed-step integrators call, for a world stepped without a
+// Simulation (so without the sort schedule): velocity_verlet_step(w, evaluation(f, w)).
+inline auto evaluation(ForceField& f, World& w) {
+  return [&f, &w](double fluid_lead) { f.compute(w, fluid_lead); };
+}
+
 inline Bed make_world(const Material& m, const ContactSpec& spec, double dt, const Vec3& gravity = {}) {
   Bed b;
   b.world.domain = {{-10, -10, -10}, {10, 10, 10}, {false, false, false}};

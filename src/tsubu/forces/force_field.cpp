@@ -8,7 +8,6 @@
 #include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
 #include "tsubu/forces/gather.hpp"
-#include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
 
@@ -83,6 +82,16 @@ struct Lanes {
 
 }  // namespace
 
+BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, const Vec3& u, const Vec3& w,
+                   const Crowding& crowd) {
+  BodyLoad body{p.mass[i] * model.gravity, {}};
+  if (!model.fluid.enabled) return body;
+  const FluidLoad fl = fluid_load(model.fluid, 2 * p.radius[i], model.gravity, u, w, crowd);
+  body.force += fl.force;
+  body.torque = fl.torque;
+  return body;
+}
+
 void ForceField::Results::resize(std::size_t n, bool shifts) {
   entry.resize(n);
   shift_i.resize(shifts ? n : 0);  // cleared by the evaluations, entry by entry
@@ -95,10 +104,8 @@ void ForceField::admit_new_particles(Particles& p) {
 }
 
 void ForceField::compute(World& world, double fluid_lead) {
-  admit_new_particles(world.particles);  // before a sort renumbers them
+  admit_new_particles(world.particles);
   shifts_ = model_->laws.corrects_positions();
-  const std::int64_t sort_every = model_->search.sort_every;
-  if (sort_every > 0 && world.step % sort_every == 0) sort(world);
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
@@ -109,12 +116,6 @@ void ForceField::compute(World& world, double fluid_lead) {
     });
   }
   accumulate(world, fluid_lead);
-}
-
-std::vector<std::uint32_t> ForceField::sort(World& world) {
-  std::vector<std::uint32_t> order = sort_spatially(world);
-  built_at_.clear();  // the lists are renumbered: rebuild them now
-  return order;
 }
 
 bool ForceField::needs_rebuild(const World& world) const {
@@ -333,18 +334,14 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
+      // Gravity and the still fluid, the fluid at the velocity and spin of the step's end (see
+      // compute()).
+      Vec3 u = p.velocity[i], w = p.omega[i];
+      if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
+      const BodyLoad body = body_load(*model_, p, i, u, w, crowding(i));
       Gathered<false> g;
-      g.force = p.mass[i] * model_->gravity;
-      if (model_->fluid.enabled) {
-        // The still fluid: per particle, at the velocity and spin of the step's end (see
-        // compute()).
-        const double d = 2 * p.radius[i];
-        Vec3 u = p.velocity[i], w = p.omega[i];
-        if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-        const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, u, w, crowding(i));
-        g.force += fl.force;
-        g.torque += fl.torque;
-      }
+      g.force = body.force;
+      g.torque += body.torque;
       gather<false>(world, i, g, nullptr);
       // Every pair is gathered by both its particles, so the largest overlap over the own
       // diameter, taken over all particles, is the largest overlap over the smaller diameter.

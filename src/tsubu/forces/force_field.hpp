@@ -53,6 +53,16 @@ struct EvaluationRates {
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
 };
 
+// The body forces on particle i of `p` at velocity u and spin w: gravity m g and the still
+// fluid's buoyancy, drag and lift with their torque (Model::fluid; none without a fluid),
+// the drag hindered by `crowd`. The one place they are added up, for the fixed-step
+// evaluation and for grains that join a run (Simulation::particles_added).
+struct BodyLoad {
+  Vec3 force, torque;
+};
+BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, const Vec3& u, const Vec3& w,
+                   const Crowding& crowd = {});
+
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
 // carrying every history over, once some particle has moved more than skin/2 since the last
 // build; in between, each step only evaluates the listed pairs.
@@ -96,9 +106,9 @@ class ForceField {
   // and compute_active() call it first; whoever adds particles between steps calls it
   // before the next kick.
   void admit_new_particles(Particles& p);
-  // Renumbers the particles along a space-filling curve (sort_spatially) and returns
-  // order[new] = old; the lists are rebuilt at the next evaluation.
-  std::vector<std::uint32_t> sort(World& world);
+  // The world's particles were renumbered (sort_spatially): the lists are rebuilt at the
+  // next evaluation.
+  void renumbered() { built_at_.clear(); }
   double skin() const { return skin_; }
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;

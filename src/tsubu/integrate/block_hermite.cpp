@@ -10,6 +10,8 @@
 #include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/parallel.hpp"
+#include "tsubu/integrate/integrators.hpp"
+#include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
 
@@ -457,19 +459,15 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
   for (std::uint32_t i : active_) where[i] = UINT32_MAX;
 }
 
+void BlockHermite::renumber(const std::vector<std::uint32_t>& order) {
+  state_.for_each_array([&](auto& a) { permute(a, order); });
+  index_levels();
+  lists_stale_ = true;
+}
+
 void BlockHermite::advance(World& world, ForceField& forces) {
   const std::int64_t begin = world.step << rules_.levels, end = begin + (std::int64_t{1} << rules_.levels);
   const double dt_tick = tick(world);
-  if (forces.model().search.sort_every > 0 && world.step % forces.model().search.sort_every == 0) {
-    const std::vector<std::uint32_t> order = forces.sort(world);  // order[new] = old
-    state_.for_each_array([&](auto& a) {
-      auto sorted = a;
-      for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = a[order[k]];
-      a.swap(sorted);
-    });
-    index_levels();
-    lists_stale_ = true;
-  }
   std::int64_t now = begin;
   std::vector<int> contacts_before;
   while (now < end) {
@@ -496,8 +494,7 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     ++stats_.block_times;
     now = t;
   }
-  ++world.step;
-  world.time = static_cast<double>(world.step) * world.dt;
+  next_step(world);
 }
 
 std::vector<std::size_t> BlockHermite::level_histogram() const {

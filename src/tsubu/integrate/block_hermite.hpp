@@ -50,6 +50,9 @@ class BlockHermite {
   // Simulation::particles_added): evaluated at the current time, with the lists rebuilt,
   // for their state and first steps.
   void particles_added(World& world, ForceField& forces, std::size_t first);
+  // The world's particles were renumbered (sort_spatially, order[new] = old): the Hermite
+  // state follows them; the lists are rebuilt at the next block time.
+  void renumber(const std::vector<std::uint32_t>& order);
   // Advances every particle by dt through the block times in between: afterwards all are
   // at time (world.step + 1) dt, which world.step and world.time then say.
   void advance(World& world, ForceField& forces);

@@ -12,13 +12,6 @@ namespace tsubu {
 
 namespace {
 
-void kick(Particles& p, double h) {
-  parallel_for(p.size(), [&](std::size_t i) {
-    p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
-    p.omega[i] += p.torque[i] * (h / p.inertia[i]);
-  });
-}
-
 [[noreturn]] void report_lost(const World& world) {
   const Particles& p = world.particles;
   std::size_t i = 0;
@@ -34,9 +27,15 @@ void kick(Particles& p, double h) {
   throw NumericalError(msg.str());
 }
 
-// One pass: v <- v + F h_kick/m (omega likewise), then x <- x + v h_drift wrapped into the
-// periodic box. A particle that is not finite or has left a non-periodic side of the box
-// stops the run.
+}  // namespace
+
+void kick(Particles& p, double h) {
+  parallel_for(p.size(), [&](std::size_t i) {
+    p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
+    p.omega[i] += p.torque[i] * (h / p.inertia[i]);
+  });
+}
+
 void kick_drift(World& world, double h_kick, double h_drift) {
   Particles& p = world.particles;
   const int threads = threads_for(p.size());
@@ -57,21 +56,9 @@ void kick_drift(World& world, double h_kick, double h_drift) {
   for (Wall& w : world.walls) w.advance(world.time, h_drift);
 }
 
-}  // namespace
-
-void symplectic_euler_step(World& world, ForceField& forces) {
-  kick_drift(world, world.dt, world.dt);
+void next_step(World& world) {
   ++world.step;
   world.time = static_cast<double>(world.step) * world.dt;
-  forces.compute(world);
-}
-
-void velocity_verlet_step(World& world, ForceField& forces) {
-  kick_drift(world, 0.5 * world.dt, world.dt);
-  ++world.step;
-  world.time = static_cast<double>(world.step) * world.dt;
-  forces.compute(world, 0.5 * world.dt);
-  kick(world.particles, 0.5 * world.dt);
 }
 
 }  // namespace tsubu

@@ -1,9 +1,10 @@
 // Fixed-step integrators with rotation. Both expect world.particles.force/torque to hold
-// the forces at the current state when called (ForceField::compute once before the loop).
+// the forces at the current state when called (one evaluation before the first step), and
+// receive the force evaluation as a callable: evaluate(fluid_lead) sets every particle's
+// force and torque at the positions and time the step has reached (Simulation::evaluate:
+// the sort schedule, then ForceField::compute; fluid_lead as ForceField::compute takes it).
 #pragma once
-#include <string>
-
-#include "tsubu/forces/force_field.hpp"
+#include "tsubu/world/world.hpp"
 
 namespace tsubu {
 
@@ -20,20 +21,42 @@ inline const char* integrator_name(Integrator i) {
   return "";
 }
 
-// Forces are divided by the translational mass (mass plus the fluid's added mass).
+// The phases of a fixed step. Forces are divided by the translational mass (mass plus the
+// fluid's added mass).
+// v <- v + F/m h_kick, x <- x + v h_drift wrapped into the periodic box (omega likewise), the
+// walls moved by h_drift; a particle that is not finite or has left a non-periodic side of
+// the box stops the run (NumericalError).
+void kick_drift(World& world, double h_kick, double h_drift);
+// v <- v + F/m h (omega likewise).
+void kick(Particles& p, double h);
+// The clock after a step: world.step + 1, world.time = step dt.
+void next_step(World& world);
+
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
-void symplectic_euler_step(World& world, ForceField& forces);
+template <class Evaluate>
+void symplectic_euler_step(World& world, Evaluate&& evaluate) {
+  kick_drift(world, world.dt, world.dt);
+  next_step(world);
+  evaluate(0.0);
+}
 
 // v <- v + F/m dt/2; x <- x + v dt; new forces; v <- v + F/m dt/2. The contacts' damping
 // uses the half-step velocity, as LAMMPS and LIGGGHTS do; the still fluid's forces use the
-// velocity extrapolated to the step's end, v + F/m dt/2 (ForceField::compute), which keeps
+// velocity extrapolated to the step's end, v + F/m dt/2 (fluid_lead = dt/2), which keeps
 // them second order.
-void velocity_verlet_step(World& world, ForceField& forces);
+template <class Evaluate>
+void velocity_verlet_step(World& world, Evaluate&& evaluate) {
+  kick_drift(world, 0.5 * world.dt, world.dt);
+  next_step(world);
+  evaluate(0.5 * world.dt);
+  kick(world.particles, 0.5 * world.dt);
+}
 
 // One fixed step of symplectic Euler or velocity Verlet.
-inline void advance(Integrator integrator, World& world, ForceField& forces) {
-  if (integrator == Integrator::symplectic_euler) symplectic_euler_step(world, forces);
-  else velocity_verlet_step(world, forces);
+template <class Evaluate>
+void advance(Integrator integrator, World& world, Evaluate&& evaluate) {
+  if (integrator == Integrator::symplectic_euler) symplectic_euler_step(world, evaluate);
+  else velocity_verlet_step(world, evaluate);
 }
 
 }  // namespace tsubu

@@ -1,5 +1,7 @@
 #include "tsubu/sim/simulation.hpp"
 
+#include "tsubu/world/spatial_sort.hpp"
+
 namespace tsubu {
 
 Simulation::Simulation(World world, Model model, Integrator integrator, const BlockStepRules& block_steps)
@@ -9,14 +11,35 @@ Simulation::Simulation(World world, Model model, Integrator integrator, const Bl
 
 void Simulation::start() {
   if (block_) block_->start(world_, forces_);
-  else forces_.compute(world_);
+  else evaluate(0);
   admit_inflow();
 }
 
 void Simulation::step() {
-  if (block_) block_->advance(world_, forces_);
-  else advance(integrator_, world_, forces_);
+  if (block_) {
+    if (sort_due()) renumber();
+    block_->advance(world_, forces_);
+  } else {
+    advance(integrator_, world_, [this](double fluid_lead) { evaluate(fluid_lead); });
+  }
   admit_inflow();
+}
+
+void Simulation::evaluate(double fluid_lead) {
+  if (sort_due()) renumber();
+  forces_.compute(world_, fluid_lead);
+}
+
+bool Simulation::sort_due() const {
+  const std::int64_t every = model_->search.sort_every;
+  return every > 0 && world_.step % every == 0;
+}
+
+void Simulation::renumber() {
+  forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
+  const std::vector<std::uint32_t> order = sort_spatially(world_);  // order[new] = old
+  forces_.renumbered();
+  if (block_) block_->renumber(order);
 }
 
 void Simulation::admit_inflow() {
@@ -38,10 +61,9 @@ void Simulation::particles_added(std::size_t first) {
   Particles& p = world_.particles;
   forces_.admit_new_particles(p);
   for (std::size_t i = first; i < p.size(); ++i) {
-    const double d = 2 * p.radius[i];
-    const FluidLoad fl = fluid_load(model_->fluid, d, model_->gravity, p.velocity[i], p.omega[i]);
-    p.force[i] = p.mass[i] * model_->gravity + fl.force;
-    p.torque[i] = fl.torque;
+    const BodyLoad body = body_load(*model_, p, i, p.velocity[i], p.omega[i]);
+    p.force[i] = body.force;
+    p.torque[i] = body.torque;
     p.contact_count[i] = 0;
   }
 }

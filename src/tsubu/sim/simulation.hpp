@@ -30,7 +30,9 @@ class Simulation {
   void start();
   // One step of dt: one fixed step, or for block steps every block time up to the next
   // multiple of dt (where every particle's time is the same); then the inflow's grains due
-  // enter.
+  // enter. The particles are renumbered along a space-filling curve (sort_spatially) at
+  // every search.sort_every-th step: before the evaluation at that step (fixed steps) or
+  // before the block times from it (block steps).
   void step();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);
@@ -62,6 +64,13 @@ class Simulation {
   std::optional<InflowFeed> inflow_;
 
   void admit_inflow();
+  // The fixed steps' force evaluation at the state the step has reached (the integrators'
+  // callable): the sort schedule, then the force field.
+  void evaluate(double fluid_lead);
+  bool sort_due() const;
+  // One renumbering for every per-particle store: the world's particles and contacts, the
+  // force field's lists, the block-step state.
+  void renumber();
 };
 
 }  // namespace tsubu

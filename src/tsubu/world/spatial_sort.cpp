@@ -19,14 +19,6 @@ std::uint64_t spread(std::uint64_t v) {
   return v;
 }
 
-// In place: the arrays keep their storage, so views into them (the Python binding's NumPy
-// arrays) stay valid across a sort.
-template <class T>
-void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
-  const std::vector<T> unsorted = a;
-  for (std::size_t k = 0; k < order.size(); ++k) a[k] = unsorted[order[k]];
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> sort_spatially(World& world) {
