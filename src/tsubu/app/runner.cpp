@@ -9,13 +9,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
-#include <iomanip>
-#include <optional>
 #include <sstream>
 #include <string_view>
 
-#include <nlohmann/json.hpp>
 
 #include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/analysis/grain_sizes.hpp"
@@ -26,6 +22,8 @@
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/app/progress.hpp"
+#include "tsubu/app/run_files.hpp"
+#include "tsubu/app/run_json.hpp"
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
@@ -50,76 +48,51 @@ std::int64_t every(double interval, double dt) {
   return std::max<std::int64_t>(1, std::llround(std::min(interval / dt, 0x1p62)));
 }
 
-// A result as run.json has always written it: whole numbers (counts) without a decimal
-// point, other numbers to the last bit.
-nlohmann::ordered_json result_value(double v) {
-  if (std::isfinite(v) && v == std::trunc(v) && std::abs(v) < 0x1p53) return static_cast<std::int64_t>(v);
-  return v;
-}
-
-// Written atomically: run.json is the old or the new one, never empty or cut short. A
-// JSON library escapes the strings and writes non-finite numbers (the D50 of a source that
-// gave no grain) as null.
-void write_run_json(const std::string& path, const std::string& run_id, const Scenario& sc, int threads,
-                    const RunSummary& s, const std::string& status, const std::string& message) {
-  nlohmann::ordered_json j;
-  j["engine"] = "tsubu";
-  j["version"] = kVersion;
-  j["run_id"] = run_id;
-  j["scenario"] = sc.file;
-  j["name"] = sc.name;
-  std::ostringstream hash;
-  hash << std::hex << sc.hash;
-  j["scenario_hash"] = hash.str();
-  j["status"] = status;
-  j["message"] = message;
-  if (!s.stop_reason.empty()) j["stop_reason"] = s.stop_reason;
-  j["threads"] = threads;
-  j["dt"] = sc.dt;
-  j["steps"] = s.steps;
-  j["particles"] = s.particles;
-  j["integrator"] = integrator_name(sc.integrator);
-  j["particle_force_evaluations"] = s.particle_force_evaluations;
-  j["contact_evaluations"] = s.contact_evaluations;
-  j["list_builds"] = s.list_builds;
-  j["wall_time_s"] = s.wall_seconds;
-  j["loop_time_s"] = s.loop_seconds;
-  j["loop_sessions"] = s.loop_sessions;
-  j["particle_steps_per_second"] = s.particle_steps_per_second();
-  j["domain"] = {{"lower", {sc.domain.lower.x, sc.domain.lower.y, sc.domain.lower.z}},
-                 {"upper", {sc.domain.upper.x, sc.domain.upper.y, sc.domain.upper.z}}};
-  if (s.block_steps) {
-    const BlockStepStats& b = *s.block_steps;
-    const double total = static_cast<double>(s.particle_force_evaluations);
-    std::vector<double> share;
-    for (std::uint64_t n : b.evaluations) share.push_back(total > 0 ? static_cast<double>(n) / total : 0.0);
-    j["block_steps"] = {{"levels", sc.block_steps.levels},
-                        {"block_times", b.block_times},
-                        {"wakes", b.wakes},
-                        {"evaluation_share_per_level", share}};
+// When a run writes: a series row, a track row and a frame every so many steps (vtk 0: no
+// frames but the first); a checkpoint every checkpoint_steps steps and/or every
+// checkpoint_seconds of wall time (0: not by that measure).
+struct Cadence {
+  explicit Cadence(const Scenario& sc)
+      : series(every(sc.output.series_interval, sc.dt)),
+        track(every(sc.output.track_interval, sc.dt)),
+        vtk(sc.output.vtk_interval > 0 ? every(sc.output.vtk_interval, sc.dt) : 0),
+        checkpoint_steps(sc.output.checkpoint_every_steps),
+        checkpoint_seconds(sc.output.checkpoint_every_seconds) {}
+  bool checkpoint_due(std::int64_t step, double seconds_since_last) const {
+    return (checkpoint_steps > 0 && step % checkpoint_steps == 0) ||
+           (checkpoint_seconds > 0 && seconds_since_last >= checkpoint_seconds);
   }
-  // Before "results": a run resumed from a checkpoint of an older tsubu, which did not store
-  // its sources' ids, leaves it out.
-  if (!s.sources.empty()) {
-    j["sources"] = nlohmann::ordered_json::array();
-    for (const SourceSizes& g : s.sources)
-      j["sources"].push_back({{"grains", g.grains}, {"d10", g.sizes.d10}, {"d50", g.sizes.d50}, {"d90", g.sizes.d90}});
-  }
-  j["results"] = nlohmann::ordered_json::object();
-  for (const auto& [name, value] : s.results) j["results"][name] = result_value(value);
-  write_file_atomically(path, j.dump(2) + "\n");
+  std::int64_t series, track, vtk, checkpoint_steps;
+  double checkpoint_seconds;
+};
+
+// The checkpoint folder, for people: the scenario as run (the checkpoints hold their own
+// copy; written by a fresh run) with the overrides of the run and of its resumes.
+void prepare_checkpoint_folder(const std::filesystem::path& dir, const Scenario& sc, bool fresh) {
+  std::filesystem::create_directories(dir);
+  if (fresh) write_file_atomically(dir / "scenario.toml", sc.text);
+  std::string sets;
+  for (const auto& o : sc.overrides) sets += o + "\n";
+  write_file_atomically(dir / "overrides.txt", sets);
 }
 
-// The data rows of a CSV file: its lines after the header.
-std::size_t data_rows(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const auto lines = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
-  return lines > 0 ? static_cast<std::size_t>(lines - 1) : 0;
+// A completed run's results: the analyses' values at the end, the inflow's rates and
+// counts, each with its unit, in the scenario's order; the sources' grain sizes.
+void add_results(RunSummary& summary, AnalysisMonitor& monitor, const Scenario& sc, const InflowFeed* inflow,
+                 const World& world) {
+  const std::vector<double>& values = monitor.evaluate(world);
+  for (std::size_t k = 0; k < values.size(); ++k) summary.results[monitor.names()[k]] = values[k];
+  for (const AnalysisSpec& a : sc.analyses)
+    for (const std::string& unit : analysis_result_units(a)) summary.result_units.push_back(unit);
+  summary.result_order = monitor.names();
+  if (inflow)
+    for (const auto& [name, value] : inflow->results(world)) {
+      summary.results[name] = value;
+      summary.result_order.push_back(name);
+      summary.result_units.push_back(inflow_result_unit(name));
+    }
+  summary.sources = source_sizes(world);
 }
-
-}  // namespace
-
-namespace {
 
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
@@ -164,66 +137,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   AnalysisMonitor monitor(sc.analyses, sc.stops);
   std::string stop_reason;  // set by the first series row that meets a [[stop]] condition
 
-  // Moving walls add two columns each: the displacement of the plane along its normal and
-  // the load the particles put on it.
-  std::vector<std::size_t> moving;
-  for (std::size_t k = 0; k < sc.walls.size(); ++k)
-    if (!sc.walls[k].motion.empty()) moving.push_back(k);
-  // Output files: fresh, or cut back to their size at the checkpoint (rows written after it
-  // are written again, the same bits).
-  auto reopen = [&](CheckedFile& f, const fs::path& path, std::uint64_t bytes) {
-    std::error_code ec;
-    const auto size = fs::file_size(path, ec);
-    if (ec || size < bytes)
-      throw std::runtime_error(path.string() + " is missing or shorter than at the checkpoint (" + std::to_string(bytes) +
-                               " bytes): cannot continue it");
-    fs::resize_file(path, bytes);
-    f.open(path, CheckedFile::Mode::append);
-  };
-  const fs::path series_path = fs::path(out_dir) / "series.csv", track_path = fs::path(out_dir) / "track.csv";
-  CheckedFile series;
-  if (from) {
-    reopen(series, series_path, from->output.series_bytes);
-  } else {
-    series.open(series_path);
-    const std::vector<std::string> columns = series_columns(sc);
-    for (std::size_t k = 0; k < columns.size(); ++k) series << (k > 0 ? "," : "") << columns[k];
-    for (const std::string& name : monitor.names()) series << ',' << name;
-    series << '\n';
-  }
-  series << std::setprecision(12);
-  // type = "profiles": a row in each of its files with every series.csv row.
-  std::optional<ProfileWriter> profiles;
-  for (const AnalysisSpec& a : sc.analyses)
-    if (a.kind == AnalysisSpec::Kind::profiles)
-      profiles.emplace(a, fs::path(out_dir) / "profiles", from ? std::optional(data_rows(series_path)) : std::nullopt);
-  FrameSeries frames(out_dir, sc.output.contacts, !world.walls.empty());
-  if (from) frames.restore(from->output.pvd);
-  // Index of particle `id` now (spatial sorting moves particles between indices).
-  auto index_of = [&](std::int64_t id) {
-    return static_cast<std::size_t>(std::find(world.particles.id.begin(), world.particles.id.end(), id) - world.particles.id.begin());
-  };
-  CheckedFile track;
-  if (!sc.output.track.empty()) {
-    if (from) {
-      reopen(track, track_path, from->output.track_bytes);
-    } else {
-      track.open(track_path);
-      track << "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n";
-    }
-    track << std::setprecision(17);
-  }
-  auto write_track = [&] {
-    const Particles& p = world.particles;
-    for (std::int64_t id : sc.output.track) {
-      const std::size_t i = index_of(id);
-      if (i == p.size()) continue;  // an inflow grain not yet entered
-      const Vec3 &x = p.position[i], &v = p.velocity[i], &w = p.omega[i], &f = p.force[i];
-      track << world.time << ',' << p.id[i] << ',' << x.x << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ','
-            << v.z << ',' << w.x << ',' << w.y << ',' << w.z << ',' << f.x << ',' << f.y << ',' << f.z << ','
-            << p.contact_count[i] << '\n';
-    }
-  };
+  RunFiles files(sc, sim, out_dir, monitor.names(), from);
   // Entering grains bring energy: no energy-growth check with an inflow.
   EnergyWatch energy_watch(world, model, inflow ? 0.0 : sc.energy_growth_limit);
   if (from) energy_watch.restore(from->energy_watch);
@@ -232,30 +146,17 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     const ContactTotals c = forces.totals(world);
     energy_watch.observe(world, c.elastic_energy);  // before the row: a failing state is not written
     const std::vector<double>& results = monitor.evaluate(world);  // before it too: a signal may cut it short
-    series << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
-           << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
-    for (std::size_t k : moving)
-      series << ',' << dot(world.walls[k].point - sc.walls[k].point, world.walls[k].normal) << ','
-             << forces.wall_load(world, k);
-    if (sim.block())  // particles per level (step dt/2^k)
-      for (std::size_t n : sim.block()->level_histogram()) series << ',' << n;
-    if (inflow) series << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
-    for (double v : results) series << ',' << v;
-    series << '\n';
-    if (profiles) profiles->write(world);
+    files.series_row(sim, e, c, results);
     stop_reason = monitor.stop_reason(inflow && inflow->ended());
   };
-  auto write_frame = [&] { frames.write(world, forces); };
+  auto write_track = [&] { files.track_rows(world); };
+  auto write_frame = [&] { files.frame(sim); };
 
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  const std::int64_t series_every = every(sc.output.series_interval, sc.dt);
-  const std::int64_t vtk_every = sc.output.vtk_interval > 0 ? every(sc.output.vtk_interval, sc.dt) : 0;
-  const std::int64_t track_every = every(sc.output.track_interval, sc.dt);
-  const std::int64_t ckpt_every = sc.output.checkpoint_every_steps;
-  const double ckpt_seconds = sc.output.checkpoint_every_seconds;
+  const Cadence cadence(sc);
   // A resumed run continues from checkpoints and ends with one even when its --set turned
   // the periodic ones off: a later resume from an older one would cut its outputs back.
-  const bool checkpoints = ckpt_every > 0 || ckpt_seconds > 0 || from;
+  const bool checkpoints = cadence.checkpoint_steps > 0 || cadence.checkpoint_seconds > 0 || from;
   const Progress::Mode progress_mode_now = progress_mode(progress);
   const double log_interval = progress_mode_now == Progress::Mode::log ? progress_log_interval() : 0.0;
   const double wall_before = from ? from->wall_seconds : 0.0;  // earlier sessions
@@ -266,9 +167,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   // flushed, not synced: a checkpoint syncs what it refers to.
   double last_flush = 0;
   auto flush_rows = [&] {
-    series.flush();
-    if (track.is_open()) track.flush();
-    if (profiles) profiles->flush();
+    files.flush();
     last_flush = elapsed();
   };
   std::int64_t checkpoint_step = from ? from->step : -1;  // step of the newest checkpoint
@@ -292,18 +191,10 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     c.energy_watch = energy_watch.state();
     c.record = record();
     c.wall_seconds = wall_before + elapsed();
-    c.output.frame = frames.count();
-    c.output.pvd = frames.frames();
-    c.output.series_bytes = fs::file_size(series_path);
-    c.output.track_bytes = track.is_open() ? fs::file_size(track_path) : 0;
+    c.output = files.state();
     try {
       with_state_lent(sim, c, [&] {
-        sync_file(series_path);
-        if (track.is_open()) sync_file(track_path);
-        if (profiles)
-          for (const fs::path& f : profiles->paths()) sync_file(f);
-        for (const auto& f : frames.unsynced()) sync_file(f);
-        frames.mark_synced();
+        files.sync();
         write_checkpoint(ckpt_dir, c);
       });
       checkpoint_step = world.step;
@@ -334,24 +225,16 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (checkpoint_step < 0) return "; no checkpoint was written before the failure";
     return "; the last good checkpoint (step " + std::to_string(checkpoint_step) + ") is kept in " + ckpt_dir.string();
   };
-  if (checkpoints) {
-    fs::create_directories(ckpt_dir);
-    // For people: the scenario as run (the checkpoints hold their own copy), with the
-    // overrides of the run and of its resumes.
-    if (!from) write_file_atomically(ckpt_dir / "scenario.toml", sc.text);
-    std::string sets;
-    for (const auto& o : sc.overrides) sets += o + "\n";
-    write_file_atomically(ckpt_dir / "overrides.txt", sets);
-  }
+  if (checkpoints) prepare_checkpoint_folder(ckpt_dir, sc, !from);
   StopSignals stop_signals;
   try {
     if (!from) {
       sim.start();
       write_series();
       write_track();
-      if (vtk_every) write_frame();
+      if (cadence.vtk) write_frame();
     }
-    if (from && from->step % series_every == 0) {  // a run that a [[stop]] ended stays ended
+    if (from && from->step % cadence.series == 0) {  // a run that a [[stop]] ended stays ended
       monitor.evaluate(world);
       stop_reason = monitor.stop_reason(inflow && inflow->ended());
     }
@@ -366,10 +249,10 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       sim.step();
       session_steps = s - loop_first + 1;
       session_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
-      if (s % series_every == 0 || s == steps) write_series();
+      if (s % cadence.series == 0 || s == steps) write_series();
       const bool last = s == steps || !stop_reason.empty();
-      if (s % track_every == 0 || last) write_track();
-      if (vtk_every && (s % vtk_every == 0 || last)) write_frame();
+      if (s % cadence.track == 0 || last) write_track();
+      if (cadence.vtk && (s % cadence.vtk == 0 || last)) write_frame();
       if (g_stop_signal != 0) {
         const int sig = g_stop_signal;
         save_checkpoint();
@@ -381,7 +264,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
         write_run_json(json, run_id, sc, threads, summary, "interrupted", msg.str());
         throw Interrupted(msg.str());
       }
-      if (!last && ((ckpt_every > 0 && s % ckpt_every == 0) || (ckpt_seconds > 0 && elapsed() - last_checkpoint >= ckpt_seconds)))
+      if (!last && cadence.checkpoint_due(s, elapsed() - last_checkpoint))
         save_checkpoint();
       else if (elapsed() - last_flush >= 1.0)
         flush_rows();
@@ -390,9 +273,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     }
     report.finish();
     if (checkpoints && checkpoint_step != world.step) save_checkpoint();  // the final state
-    series.close();
-    track.close();
-    if (profiles) profiles->close();
+    files.close();
   } catch (const StopRequested&) {
     // SIGINT/SIGTERM during a long analysis: the step's outputs are not written, so this
     // step cannot be checkpointed; the newest checkpoint stays the last one.
@@ -424,18 +305,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     throw WriteError(msg);
   }
   finish_summary();
-  const std::vector<double>& values = monitor.evaluate(world);
-  for (std::size_t k = 0; k < values.size(); ++k) summary.results[monitor.names()[k]] = values[k];
-  for (const AnalysisSpec& a : sc.analyses)
-    for (const std::string& unit : analysis_result_units(a)) summary.result_units.push_back(unit);
-  summary.result_order = monitor.names();
-  if (inflow)
-    for (const auto& [name, value] : inflow->results(world)) {
-      summary.results[name] = value;
-      summary.result_order.push_back(name);
-      summary.result_units.push_back(inflow_result_unit(name));
-    }
-  summary.sources = source_sizes(world);
+  add_results(summary, monitor, sc, inflow, world);
   summary.stop_reason = stop_reason.empty() ? "duration" : stop_reason;
   write_run_json(json, run_id, sc, threads, summary, "ok", "");
   return summary;
