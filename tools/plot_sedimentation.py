@@ -4,7 +4,7 @@
     plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
 
 Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
-examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7-rest (the mixtures at rest),
+examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7-rest (the mixtures at rest), box,
 fig7-stop (the same by the paper's protocol), fig8, and the variants fig5-6-hindered,
 fig7-hindered with hindered settling, rcp-mono and rcp without friction), and the series.csv
 of each fig8 case; only cases with status ok enter the figures. Writes into --out (default:
@@ -20,6 +20,10 @@ docs/validation of the repository):
                                    a panel per friction law, a line per spread and S
     sedimentation-fig8.png         segregation Gamma of the two layers against time (Fig. 8)
     sedimentation-hindered.png     porosity with and without hindered settling
+    sedimentation-box.png          the mixture S = 0, Sigma = 2.08 at rest in boxes of 4 and
+                                   8 d_max (box): solid fraction against height, and the
+                                   porosity of the 0.15-0.35 L slab and of the slab kept
+                                   2 d_max clear of the floor and of the surface
     sedimentation.csv              one row per case of every sweep present
 
 A missing sweep is skipped and a figure without data is not drawn; both are said on stdout.
@@ -34,6 +38,7 @@ module).
 """
 import argparse
 import csv
+import json
 import math
 from pathlib import Path
 
@@ -44,10 +49,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7-rest", "fig7-stop", "fig8", "fig5-6-hindered",
+SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7-rest", "fig7-stop", "box", "fig8", "fig5-6-hindered",
           "fig7-hindered", "rcp-mono", "rcp")
 WITHOUT_FLUID = {"vacuum"}
-MIXTURES = {"fig7-rest", "fig7-stop", "fig8", "fig7-hindered", "rcp"}
+MIXTURES = {"fig7-rest", "fig7-stop", "box", "fig8", "fig7-hindered", "rcp"}
+# What a sweep sets for all its cases ([set], not a parameter of its results.csv).
+SWEEP_CONSTANTS = {"box": {"S": 0.0, "Sigma": 2.0794, "law": "bounded"}}
 LAWS = {"total": "bounded", "spring": "as printed"}  # contact.default.friction_bound
 VARIANTS = {"fig5-6-hindered": "hindered", "fig7-hindered": "hindered", "rcp-mono": "frictionless",
             "rcp": "frictionless"}  # the others: the paper's model
@@ -157,6 +164,7 @@ def case_from_row(folder, sweep, row):
     if sweep in MIXTURES:
         for name, key in TALBOT_PARAMETERS.items():
             case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
+    case.update(SWEEP_CONSTANTS.get(sweep, {}))
     for key in RESULTS:
         case[key] = number(row.get(key, "")) if ok else math.nan
     case["coordination_no_rattlers"] = without_empty(case["coordination_no_rattlers"], 2)
@@ -474,6 +482,71 @@ def plot_fig8(sweeps, png):
     return True
 
 
+CLEAR = 2 * D_MAX  # m: the box sweep's second slab keeps this clear of the floor and of the surface
+
+
+def last_profile(folder, quantity="solid_fraction"):
+    """(slice centres (m), values) of the last row of a profiles file: the deposit at rest."""
+    with open(Path(folder) / "profiles" / f"{quantity}.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    return np.array([float(x) for x in rows[0][1:]]), np.array([number(x) for x in rows[-1][1:]])
+
+
+def clear_slab(case):
+    """(z_low, z_high, porosity) of the slab CLEAR above the floor and below the deposit's
+    surface (run.json's deposit_height at rest), from the whole slices of the profile at rest
+    (exact sphere-slab volumes); NaN when the deposit is too thin for one."""
+    z, phi = last_profile(case["folder"])
+    surface = json.loads((Path(case["folder"]) / "run.json").read_text())["results"]["deposit_height"]
+    half = 0.5 * (z[1] - z[0])
+    inside = (z - half >= CLEAR - 1e-12) & (z + half <= surface - CLEAR + 1e-12)
+    if not inside.any():
+        return CLEAR, surface - CLEAR, math.nan
+    return float(z[inside][0] - half), float(z[inside][-1] + half), 1 - float(phi[inside].mean())
+
+
+def plot_box(sweeps, png):
+    """The mixture in boxes of 4 and 8 d_max: solid fraction against height at rest (each
+    seed), with the two slabs, and their porosities against the box. False without data."""
+    cases = finished(sweeps, "box")
+    if not cases:
+        return False
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.8), layout="constrained")
+    colours = {4.0: "C0", 8.0: "C3"}
+    for c in sorted(cases, key=lambda c: (c["L_over_d"], c["seed"])):
+        z, phi = last_profile(c["folder"])
+        colour = colours.get(c["L_over_d"], "0.4")
+        left.plot(z / D_MAX, phi, color=colour, alpha=0.8, lw=1,
+                  label=f"L = {c['L_over_d']:g} d_max" if c["seed"] == 1 else None)
+        low, high, _ = clear_slab(c)
+        box = c["L_over_d"] * D_MAX
+        left.axvspan(0.15 * box / D_MAX, 0.35 * box / D_MAX, color=colour, alpha=0.08)
+        if high > low:
+            left.axvspan(low / D_MAX, high / D_MAX, color=colour, alpha=0.15, hatch="//", fill=False)
+    top = max(float(z[phi > 0.01].max()) for z, phi in (last_profile(c["folder"]) for c in cases))
+    left.set_xlim(0, top / D_MAX + 1)
+    left.set_xlabel("height z / d_max")
+    left.set_ylabel("solid fraction (1 mm slices, at rest)")
+    left.set_title("shaded: the 0.15-0.35 L slab; hatched: 2 d_max clear of floor and surface", fontsize="small")
+    left.grid(alpha=0.3)
+    left.legend(fontsize="small")
+    for k, (label, values) in enumerate((("0.15-0.35 L", lambda c: c["porosity_exact"]),
+                                          ("2 d_max clear", lambda c: clear_slab(c)[2]))):
+        for (size,), group in by(cases, "L_over_d"):
+            known = [values(c) for c in group if not math.isnan(values(c))]
+            if known:
+                error = np.std(known, ddof=1) / math.sqrt(len(known)) if len(known) > 1 else None
+                right.errorbar(size + 0.15 * (k - 0.5), np.mean(known), yerr=error, fmt="os"[k], color=f"C{k + 1}",
+                               capsize=3, label=label if size == min(c["L_over_d"] for c in cases) else None)
+    right.set_xlabel("box L / d_max")
+    right.set_ylabel("porosity at rest (mean ± standard error over seeds)")
+    right.set_xticks(sorted({c["L_over_d"] for c in cases}))
+    right.grid(alpha=0.3)
+    right.legend(fontsize="small")
+    save(fig, png, "Talbot S = 0, Σ = 2.08, Q_0, bounded friction law, at rest")
+    return True
+
+
 def csv_value(value):
     """A value as sedimentation.csv writes it: empty for NaN, whole numbers without '.0'."""
     if isinstance(value, float):
@@ -565,6 +638,22 @@ def markdown(sweeps):
                   " δ ≤ 0.4; the porosity of the frictionless deposit at rest, rcp.toml):", "",
                   *table(["S", "Σ", "d_min (mm)", "d50 (mm)", "σ_g", "Trask", "δ", "skewness", "Wu & Wang porosity",
                           "Desmond & Weeks RCP porosity", "frictionless deposit porosity"], rows), ""]
+    boxes = finished(sweeps, "box")
+    if boxes:
+        rows = []
+        for (size,), g in by(boxes, "L_over_d"):
+            slabs = [clear_slab(c) for c in g]
+            clear = [c for c, (_, _, porosity) in zip(g, slabs) if not math.isnan(porosity)]
+            for c, (low, high, porosity) in zip(g, slabs):
+                c["porosity_clear"] = porosity
+            mean, error = over_seeds(clear, "porosity_clear") if clear else (math.nan, math.nan)
+            span = ", ".join(f"{low / D_MAX:.1f}-{high / D_MAX:.1f}" if high > low else "none (too thin)"
+                             for low, high, _ in slabs)
+            rows.append([f"{size:g}", str(len(g)), *deposit_cells(g, ("porosity", "porosity_grains", "coordination")),
+                         span, cell(mean, error), *deposit_cells(g, ("wall_time_s",))])
+        lines += ["The box (S = 0, Σ = 2.08, Q_0, bounded law, at rest; ±: standard error over the seeds):", "",
+                  *table(["L/d_max", "seeds", "porosity 0.15-0.35 L", "grains in slab", "Z",
+                          "clear slab (d_max, per seed)", "porosity, clear slab", "wall time (s)"], rows), ""]
     lines += [f"No finished case of sweep `{sweep}` yet." for sweep in SWEEPS
               if not finished(sweeps, sweep)]
     return "\n".join(lines)
@@ -591,6 +680,7 @@ def main():
                ("sedimentation-finite-size.png", plot_finite_size, "finite-size"),
                ("sedimentation-fig7.png", plot_fig7, "fig7-rest"),
                ("sedimentation-fig7-flux.png", plot_fig7_flux, "fig7-rest at two fluxes"),
+               ("sedimentation-box.png", plot_box, "box"),
                ("sedimentation-fig8.png", plot_fig8, "fig8"),
                ("sedimentation-hindered.png", plot_hindered, "fig5-6-hindered or fig7-hindered"))
     for name, draw, needs in figures:
