@@ -82,16 +82,6 @@ struct Lanes {
 
 }  // namespace
 
-BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, const Vec3& u, const Vec3& w,
-                   const Crowding& crowd) {
-  BodyLoad body{p.mass[i] * model.gravity, {}};
-  if (!model.fluid.enabled) return body;
-  const FluidLoad fl = fluid_load(model.fluid, 2 * p.radius[i], model.gravity, u, w, crowd);
-  body.force += fl.force;
-  body.torque = fl.torque;
-  return body;
-}
-
 void ForceField::Results::resize(std::size_t n, bool shifts) {
   entry.resize(n);
   shift_i.resize(shifts ? n : 0);  // cleared by the evaluations, entry by entry
@@ -336,9 +326,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     for (std::size_t i = begin; i < end; ++i) {
       // Gravity and the still fluid, the fluid at the velocity and spin of the step's end (see
       // compute()).
-      Vec3 u = p.velocity[i], w = p.omega[i];
-      if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-      const BodyLoad body = body_load(*model_, p, i, u, w, crowding(i));
+      const BodyLoad body = body_load(*model_, p, i, fluid_lead, crowding(i));
       Gathered<false> g;
       g.force = body.force;
       g.torque += body.torque;

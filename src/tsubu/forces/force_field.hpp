@@ -53,15 +53,27 @@ struct EvaluationRates {
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
 };
 
-// The body forces on particle i of `p` at velocity u and spin w: gravity m g and the still
-// fluid's buoyancy, drag and lift with their torque (Model::fluid; none without a fluid),
-// the drag hindered by `crowd`. The one place they are added up, for the fixed-step
-// evaluation and for grains that join a run (Simulation::particles_added).
+// The body forces on particle i of `p`: gravity m g and the still fluid's buoyancy, drag and
+// lift with their torque (Model::fluid; none without a fluid), the drag hindered by `crowd`.
+// The fluid's are taken at the velocity and spin v + fluid_lead F/m, w + fluid_lead T/I with
+// the particle's force and torque now (ForceField::compute). The one place they are added
+// up, for the fixed-step evaluation and for grains that join a run
+// (Simulation::particles_added, fluid_lead 0).
 struct BodyLoad {
   Vec3 force, torque;
 };
-BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, const Vec3& u, const Vec3& w,
-                   const Crowding& crowd = {});
+// Inlined: the fixed-step gather calls it for every particle at every step.
+[[gnu::always_inline]] inline BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, double fluid_lead,
+                                                 const Crowding& crowd = {}) {
+  BodyLoad body{p.mass[i] * model.gravity, {}};
+  if (!model.fluid.enabled) return body;
+  Vec3 u = p.velocity[i], w = p.omega[i];
+  if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
+  const FluidLoad fl = fluid_load(model.fluid, 2 * p.radius[i], model.gravity, u, w, crowd);
+  body.force += fl.force;
+  body.torque = fl.torque;
+  return body;
+}
 
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
 // carrying every history over, once some particle has moved more than skin/2 since the last
