@@ -3,6 +3,7 @@ and tables drawn from a small fake set of sweep results (the script needs not th
 module)."""
 
 import csv
+import json
 import importlib.util
 import math
 import os
@@ -119,6 +120,23 @@ def sweeps(tmp_path):
         write_results(root / sweep, [({"particles.0.distribution.exponent": s, "particles.0.solid_fraction": 0.1,
                                        "particles.0.distribution.spread": spread}, "ok")
                                       for s in (0, 1, 2) for spread in (0.5, 1.0, 2.0)])
+    # The box: L = 4 and 8 cm, seeds 1 and 2, each with its profile at rest (solid fraction
+    # 0.6 up to a surface at 0.65 L, 0 above) and run.json's deposit height.
+    write_results(root / "box", [({"simulation.seed": seed, "domain.upper": f"[{n * D_MAX}, {n * D_MAX}, {2.2 * n * D_MAX}]"},
+                                   "ok") for n in (4, 8) for seed in (1, 2)])
+    for k, n in enumerate((4, 4, 8, 8)):
+        case = root / "box" / f"case{k}"
+        case.mkdir()
+        top = 2.2 * n * D_MAX
+        surface = 0.65 * n * D_MAX
+        centres = np.arange(0.0005, top, 0.001)
+        (case / "profiles").mkdir()
+        with open(case / "profiles" / "solid_fraction.csv", "w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow(["time [s]; solid fraction at slice centre z [m]", *centres])
+            out.writerow([0.0, *([0.0] * len(centres))])
+            out.writerow([1.0, *[0.6 if z < surface else 0.0 for z in centres]])
+        (case / "run.json").write_text(json.dumps({"results": {"deposit_height": surface}}))
     for n in range(2):
         case = root / "fig8" / f"case{n}"
         case.mkdir()
@@ -140,11 +158,14 @@ def run(*args):
 def test_the_script_draws_every_figure_and_the_table(sweeps, tmp_path):
     out = tmp_path / "out"
     printed = run("--sweeps", sweeps, "--out", out)
-    for name in ("phi-z", "flux", "finite-size", "fig7", "fig8", "hindered"):
+    for name in ("phi-z", "flux", "finite-size", "fig7", "box", "fig8", "hindered"):
         assert (out / f"sedimentation-{name}.png").stat().st_size > 10_000, printed
     with open(out / "sedimentation.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 12 + 9 + 9 + 18 + 18 + 2 + 6 + 9 + 3 + 9
+    assert len(rows) == 12 + 9 + 9 + 18 + 18 + 4 + 2 + 6 + 9 + 3 + 9
+    box = [r for r in rows if r["sweep"] == "box"]
+    assert {(r["L_over_d"], r["S"], r["Sigma"], r["law"]) for r in box} == {("4", "0", "2.0794", "bounded"),
+                                                                            ("8", "0", "2.0794", "bounded")}
     assert "sweep fig5-6: 10 of 12 cases ok" in printed
     failed = next(r for r in rows if r["status"] == "failed")
     assert failed["porosity"] == "" and failed["Q_over_Q0"] == "0.1"
@@ -171,8 +192,8 @@ def test_missing_sweeps_are_skipped_and_said(sweeps, tmp_path):
     assert "sedimentation-phi-z.png: not drawn" in printed
     assert "sedimentation-fig7.png: not drawn" in printed
     assert "sweep vacuum: no " in printed
-    assert sorted(p.name for p in out.glob("*.png")) == ["sedimentation-fig8.png", "sedimentation-finite-size.png",
-                                                           "sedimentation-hindered.png"]
+    assert sorted(p.name for p in out.glob("*.png")) == ["sedimentation-box.png", "sedimentation-fig8.png",
+                                                           "sedimentation-finite-size.png", "sedimentation-hindered.png"]
 
 
 def test_markdown_tables(sweeps, tmp_path):
@@ -188,4 +209,8 @@ def test_markdown_tables(sweeps, tmp_path):
     d50, delta, skewness = plot.talbot_statistics(0, 2.0)
     geometric, trask = plot.sorting(0, 2.0)
     assert f"| 0 | 2 | 1.35 | {d50 * 1e3:.2f} | {geometric:.2f} | {trask:.2f} | {delta:.3f} | {skewness:.2f} |" in printed
+    # The box: at L = 4 cm the deposit (2.6 cm) is too thin for a slab 2 cm clear of floor and
+    # surface; at 8 cm the slab 2-3.2 cm has the profile's solid fraction 0.6.
+    assert "| 4 | 2 | " in printed and "none (too thin), none (too thin)" in printed
+    assert "| 2.0-3.2, 2.0-3.2 | 0.400 ± 0.000 |" in printed
     assert "No finished case" not in printed
