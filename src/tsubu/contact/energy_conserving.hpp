@@ -68,6 +68,9 @@ struct EnergyConserving {
   double e = 1;                      // restitution
   double beta = 0;                   // damping ratio of e, for the tangential model
   double characteristic_length = 0;  // m, 0: the smaller diameter of the pair
+  // Half a period of the spring, s, and the elastic peak overlap at approach speed u, m.
+  double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
+  double peak_overlap(double m_eff, double, double u) const { return u * std::sqrt(m_eff / k_n); }
 
   NormalForce force(const ContactGeometry& g, ContactHistory&) const {
     using namespace energy_contact;
@@ -94,6 +97,8 @@ struct EnergyConserving2005 {
   double e = 1;
   double beta = 0;
   double characteristic_length = 0;
+  double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
+  double peak_overlap(double m_eff, double, double u) const { return u * std::sqrt(m_eff / k_n); }
 
   NormalForce force(const ContactGeometry& g, ContactHistory&) const {
     using namespace energy_contact;

@@ -16,31 +16,11 @@ double effective_shear_modulus(const Material& a, const Material& b) {
 }
 
 double contact_time(const NormalModel& model, double m_eff, double r_eff, double u) {
-  return std::visit(
-      [&](const auto& n) -> double {
-        using N = std::decay_t<decltype(n)>;
-        if constexpr (std::is_same_v<N, HookeHysteresis>)
-          return M_PI * std::sqrt(m_eff / (n.c_k2 * n.k_n(r_eff, m_eff)));
-        else if constexpr (std::is_same_v<N, EnergyConserving> || std::is_same_v<N, EnergyConserving2005>)
-          return M_PI * std::sqrt(m_eff / n.k_n);
-        else
-          return n.collision_time(m_eff, r_eff, u);
-      },
-      model);
+  return std::visit([&](const auto& n) { return n.collision_time(m_eff, r_eff, u); }, model);
 }
 
 double peak_overlap(const NormalModel& model, double m_eff, double r_eff, double u) {
-  return std::visit(
-      [&](const auto& n) -> double {
-        using N = std::decay_t<decltype(n)>;
-        if constexpr (std::is_same_v<N, HertzTsuji> || std::is_same_v<N, HertzSediment>)
-          return std::pow(15 * m_eff * u * u / (16 * n.e_star * std::sqrt(r_eff)), 0.4);
-        else if constexpr (std::is_same_v<N, HookeHysteresis>)
-          return u * std::sqrt(m_eff / n.k_n(r_eff, m_eff));
-        else
-          return u * std::sqrt(m_eff / n.k_n);
-      },
-      model);
+  return std::visit([&](const auto& n) { return n.peak_overlap(m_eff, r_eff, u); }, model);
 }
 
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {

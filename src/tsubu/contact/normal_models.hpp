@@ -24,6 +24,8 @@ struct LinearDashpot {
   // Duration of a collision (half a period of the undamped spring), s; any impact speed.
   double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
   bool collision_longer_than(double m_eff, double r_eff, double u, double t) const { return collision_time(m_eff, r_eff, u) > t; }
+  // Elastic peak overlap of a head-on collision at approach speed u, m.
+  double peak_overlap(double m_eff, double, double u) const { return u * std::sqrt(m_eff / k_n); }
 
   template <class G>
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
@@ -42,6 +44,11 @@ inline double hertz_stiffness(double e_star, double r_eff) { return (4.0 / 3.0) 
 inline double hertz_collision_time(double e_star, double m_eff, double r_eff, double u) {
   const double K = hertz_stiffness(e_star, r_eff);
   return 2.94 * std::pow(m_eff * m_eff / (K * K * u), 0.2);
+}
+
+// The elastic peak overlap of that collision: (15 m* u^2 / (16 E* sqrt(R*)))^(2/5), m.
+inline double hertz_peak_overlap(double e_star, double m_eff, double r_eff, double u) {
+  return std::pow(15 * m_eff * u * u / (16 * e_star * std::sqrt(r_eff)), 0.4);
 }
 
 // Whether that duration exceeds t, without the fifth root: m*^2 / (K^2 u) > (t / 2.94)^5.
@@ -65,6 +72,7 @@ struct HertzTsuji {
   bool collision_longer_than(double m_eff, double r_eff, double u, double t) const {
     return hertz_collision_longer_than(e_star, m_eff, r_eff, u, t);
   }
+  double peak_overlap(double m_eff, double r_eff, double u) const { return hertz_peak_overlap(e_star, m_eff, r_eff, u); }
 
   template <class G>
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
@@ -93,6 +101,7 @@ struct HertzSediment {
   bool collision_longer_than(double m_eff, double r_eff, double u, double t) const {
     return hertz_collision_longer_than(e_star, m_eff, r_eff, u, t);
   }
+  double peak_overlap(double m_eff, double r_eff, double u) const { return hertz_peak_overlap(e_star, m_eff, r_eff, u); }
 
   template <class G>
   [[gnu::always_inline]] BasicNormalForce<typename G::Number> force(const G& g, ContactHistory&) const {
@@ -134,6 +143,11 @@ struct HookeHysteresis {
     const double root_r = std::sqrt(r_eff);
     return 16. / 15. * root_r * e_star * std::pow(15. * m_eff * v_c * v_c / (16. * root_r * e_star), 0.2);
   }
+  // Duration of a collision: the half period of the stiffest line k2max = c_k2 k_n, which
+  // unloading follows after a deep contact, s.
+  double collision_time(double m_eff, double r_eff, double) const { return M_PI * std::sqrt(m_eff / (c_k2 * k_n(r_eff, m_eff))); }
+  // Elastic peak overlap on the loading line k_n, m.
+  double peak_overlap(double m_eff, double r_eff, double u) const { return u * std::sqrt(m_eff / k_n(r_eff, m_eff)); }
   double gamma_n(double k, double m_eff) const {
     if (log_e == 0) return 0.0;  // e = 1: no damping
     const double r = M_PI / log_e;
