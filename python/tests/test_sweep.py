@@ -136,9 +136,10 @@ def test_a_sweep_locks_its_folder_and_waits_for_a_case_another_tsubu_runs(tmp_pa
     """Issue 25, item 4: a second sweep into the folder of a running one exits 2 naming it and
     touches nothing; a sweep restarted after a SIGKILL, while the killed sweep's run still
     goes on, waits for that run instead of failing the case (both exited 1 before, with
-    finished cases recorded as failed and one logs/ for both)."""
+    finished cases recorded as failed and one logs/ for both). The run lasts about 8 s on an idle
+    machine: at 3 s, two starts of the sweep on an overloaded one outlasted it."""
     file = write_sweep(tmp_path / "one.toml", tmp_path / "out", grid={"particles.0.solid_fraction": [0.1],
-                       "simulation.seed": [3]}, set={"simulation.duration": 1.2})
+                       "simulation.seed": [3]}, set={"simulation.duration": 3.0})
     case, log = tmp_path / "out" / CASES[0], tmp_path / "out" / "logs" / f"{CASES[0]}.log"
     first = subprocess.Popen([sys.executable, "-m", "tsubu.sweep", str(file)], env=ENV, stderr=subprocess.DEVNULL)
     wait_for(lambda: (case / ".tsubu-run").exists(), "the case's run to start")
