@@ -165,6 +165,9 @@ def case_from_row(folder, sweep, row):
         for name, key in TALBOT_PARAMETERS.items():
             case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
     case.update(SWEEP_CONSTANTS.get(sweep, {}))
+    # The box sweep's second slab, read once from the deposit's profile at rest.
+    case["clear_low"], case["clear_high"], case["porosity_clear"] = (
+        clear_slab(case["folder"]) if sweep == "box" and ok else (math.nan, math.nan, math.nan))
     for key in RESULTS:
         case[key] = number(row.get(key, "")) if ok else math.nan
     case["coordination_no_rattlers"] = without_empty(case["coordination_no_rattlers"], 2)
@@ -492,12 +495,13 @@ def last_profile(folder, quantity="solid_fraction"):
     return np.array([float(x) for x in rows[0][1:]]), np.array([number(x) for x in rows[-1][1:]])
 
 
-def clear_slab(case):
+def clear_slab(folder):
     """(z_low, z_high, porosity) of the slab CLEAR above the floor and below the deposit's
-    surface (run.json's deposit_height at rest), from the whole slices of the profile at rest
-    (exact sphere-slab volumes); NaN when the deposit is too thin for one."""
-    z, phi = last_profile(case["folder"])
-    surface = json.loads((Path(case["folder"]) / "run.json").read_text())["results"]["deposit_height"]
+    surface (run.json's deposit_height at rest) of the run in `folder`, from the whole slices
+    of the profile at rest (exact sphere-slab volumes); porosity NaN when the deposit is too
+    thin for one."""
+    z, phi = last_profile(folder)
+    surface = json.loads((Path(folder) / "run.json").read_text())["results"]["deposit_height"]
     half = 0.5 * (z[1] - z[0])
     inside = (z - half >= CLEAR - 1e-12) & (z + half <= surface - CLEAR + 1e-12)
     if not inside.any():
@@ -513,31 +517,29 @@ def plot_box(sweeps, png):
         return False
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.8), layout="constrained")
     colours = {4.0: "C0", 8.0: "C3"}
+    top = 0.0  # m, the highest slice with grains
     for c in sorted(cases, key=lambda c: (c["L_over_d"], c["seed"])):
         z, phi = last_profile(c["folder"])
+        top = max(top, float(z[phi > 0.01].max()))
         colour = colours.get(c["L_over_d"], "0.4")
         left.plot(z / D_MAX, phi, color=colour, alpha=0.8, lw=1,
                   label=f"L = {c['L_over_d']:g} d_max" if c["seed"] == 1 else None)
-        low, high, _ = clear_slab(c)
         box = c["L_over_d"] * D_MAX
         left.axvspan(0.15 * box / D_MAX, 0.35 * box / D_MAX, color=colour, alpha=0.08)
-        if high > low:
-            left.axvspan(low / D_MAX, high / D_MAX, color=colour, alpha=0.15, hatch="//", fill=False)
-    top = max(float(z[phi > 0.01].max()) for z, phi in (last_profile(c["folder"]) for c in cases))
+        if c["clear_high"] > c["clear_low"]:
+            left.axvspan(c["clear_low"] / D_MAX, c["clear_high"] / D_MAX, color=colour, alpha=0.15, hatch="//", fill=False)
     left.set_xlim(0, top / D_MAX + 1)
     left.set_xlabel("height z / d_max")
     left.set_ylabel("solid fraction (1 mm slices, at rest)")
     left.set_title("shaded: the 0.15-0.35 L slab; hatched: 2 d_max clear of floor and surface", fontsize="small")
     left.grid(alpha=0.3)
     left.legend(fontsize="small")
-    for k, (label, values) in enumerate((("0.15-0.35 L", lambda c: c["porosity_exact"]),
-                                          ("2 d_max clear", lambda c: clear_slab(c)[2]))):
-        for (size,), group in by(cases, "L_over_d"):
-            known = [values(c) for c in group if not math.isnan(values(c))]
-            if known:
-                error = np.std(known, ddof=1) / math.sqrt(len(known)) if len(known) > 1 else None
-                right.errorbar(size + 0.15 * (k - 0.5), np.mean(known), yerr=error, fmt="os"[k], color=f"C{k + 1}",
-                               capsize=3, label=label if size == min(c["L_over_d"] for c in cases) else None)
+    for k, (label, key) in enumerate((("0.15-0.35 L", "porosity_exact"), ("2 d_max clear", "porosity_clear"))):
+        for n, ((size,), group) in enumerate(by(cases, "L_over_d")):
+            mean, error = over_seeds(group, key)
+            if not math.isnan(mean):
+                right.errorbar(size + 0.15 * (k - 0.5), mean, yerr=bars(error), fmt="os"[k], color=f"C{k + 1}",
+                               capsize=3, label=label if n == 0 else None)
     right.set_xlabel("box L / d_max")
     right.set_ylabel("porosity at rest (mean ± standard error over seeds)")
     right.set_xticks(sorted({c["L_over_d"] for c in cases}))
@@ -642,13 +644,9 @@ def markdown(sweeps):
     if boxes:
         rows = []
         for (size,), g in by(boxes, "L_over_d"):
-            slabs = [clear_slab(c) for c in g]
-            clear = [c for c, (_, _, porosity) in zip(g, slabs) if not math.isnan(porosity)]
-            for c, (low, high, porosity) in zip(g, slabs):
-                c["porosity_clear"] = porosity
-            mean, error = over_seeds(clear, "porosity_clear") if clear else (math.nan, math.nan)
-            span = ", ".join(f"{low / D_MAX:.1f}-{high / D_MAX:.1f}" if high > low else "none (too thin)"
-                             for low, high, _ in slabs)
+            mean, error = over_seeds(g, "porosity_clear")
+            span = ", ".join(f"{c['clear_low'] / D_MAX:.1f}-{c['clear_high'] / D_MAX:.1f}"
+                             if c["clear_high"] > c["clear_low"] else "none (too thin)" for c in g)
             rows.append([f"{size:g}", str(len(g)), *deposit_cells(g, ("porosity", "porosity_grains", "coordination")),
                          span, cell(mean, error), *deposit_cells(g, ("wall_time_s",))])
         lines += ["The box (S = 0, Σ = 2.08, Q_0, bounded law, at rest; ±: standard error over the seeds):", "",

@@ -17,9 +17,7 @@
 #include "tsubu/analysis/grain_sizes.hpp"
 #include "tsubu/analysis/measures.hpp"
 #include "tsubu/analysis/monitor.hpp"
-#include "tsubu/analysis/profiles.hpp"
 #include "tsubu/analysis/results.hpp"
-#include "tsubu/scenario/result_names.hpp"
 #include "tsubu/app/checkpoint.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/run_files.hpp"
@@ -30,7 +28,6 @@
 #include "tsubu/core/stop_signal.hpp"
 #include "tsubu/io/checked_file.hpp"
 #include "tsubu/io/output_dir.hpp"
-#include "tsubu/io/frames.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -149,8 +146,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     files.series_row(sim, e, c, results);
     stop_reason = monitor.stop_reason(inflow && inflow->ended());
   };
-  auto write_track = [&] { files.track_rows(world); };
-  auto write_frame = [&] { files.frame(sim); };
 
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   const Cadence cadence(sc);
@@ -231,8 +226,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     if (!from) {
       sim.start();
       write_series();
-      write_track();
-      if (cadence.vtk) write_frame();
+      files.track_rows(world);
+      if (cadence.vtk) files.frame(sim);
     }
     if (from && from->step % cadence.series == 0) {  // a run that a [[stop]] ended stays ended
       monitor.evaluate(world);
@@ -251,8 +246,8 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       session_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (s % cadence.series == 0 || s == steps) write_series();
       const bool last = s == steps || !stop_reason.empty();
-      if (s % cadence.track == 0 || last) write_track();
-      if (cadence.vtk && (s % cadence.vtk == 0 || last)) write_frame();
+      if (s % cadence.track == 0 || last) files.track_rows(world);
+      if (cadence.vtk && (s % cadence.vtk == 0 || last)) files.frame(sim);
       if (g_stop_signal != 0) {
         const int sig = g_stop_signal;
         save_checkpoint();
@@ -291,7 +286,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     finish_summary();
     flush_rows();
-    write_frame();
+    files.frame(sim);
     const std::string msg = e.what() + kept_checkpoint();
     write_run_json(json, run_id, sc, threads, summary, "failed", msg);
     throw NumericalError(msg);

@@ -325,9 +325,8 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
       // Gravity and the still fluid, the fluid at the velocity and spin of the step's end (see
-      // compute()); the crowding is looked up only where settling is hindered (elsewhere every
-      // grain is lone), which keeps its bounds check out of the dry beds' loop.
-      const BodyLoad body = body_load(*model_, p, i, fluid_lead, model_->fluid.hindered ? crowding(i) : kLone);
+      // compute()).
+      const BodyLoad body = body_load(p, i, fluid_lead);
       Gathered<false> g;
       g.force = body.force;
       g.torque += body.torque;

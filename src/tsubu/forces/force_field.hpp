@@ -53,27 +53,10 @@ struct EvaluationRates {
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
 };
 
-// The body forces on particle i of `p`: gravity m g and the still fluid's buoyancy, drag and
-// lift with their torque (Model::fluid; none without a fluid), the drag hindered by `crowd`.
-// The fluid's are taken at the velocity and spin v + fluid_lead F/m, w + fluid_lead T/I with
-// the particle's force and torque now (ForceField::compute). The one place they are added
-// up, for the fixed-step evaluation and for grains that join a run
-// (Simulation::particles_added, fluid_lead 0).
+// The body forces on a particle: gravity and the still fluid's (ForceField::body_load).
 struct BodyLoad {
   Vec3 force, torque;
 };
-// Inlined: the fixed-step gather calls it for every particle at every step.
-[[gnu::always_inline]] inline BodyLoad body_load(const Model& model, const Particles& p, std::size_t i, double fluid_lead,
-                                                 const Crowding& crowd = {}) {
-  BodyLoad body{p.mass[i] * model.gravity, {}};
-  if (!model.fluid.enabled) return body;
-  Vec3 u = p.velocity[i], w = p.omega[i];
-  if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-  const FluidLoad fl = fluid_load(model.fluid, 2 * p.radius[i], model.gravity, u, w, crowd);
-  body.force += fl.force;
-  body.torque = fl.torque;
-  return body;
-}
 
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
 // carrying every history over, once some particle has moved more than skin/2 since the last
@@ -118,6 +101,24 @@ class ForceField {
   // and compute_active() call it first; whoever adds particles between steps calls it
   // before the next kick.
   void admit_new_particles(Particles& p);
+  // The body forces on particle i of `p`: gravity m g and the still fluid's buoyancy, drag
+  // and lift with their torque (Model::fluid; none without a fluid), the drag hindered by
+  // the crowding the last evaluation found (a grain that joined since: lone). The fluid's
+  // are taken at the velocity and spin v + fluid_lead F/m, w + fluid_lead T/I with the
+  // particle's force and torque now (see compute()). The one place they are added up, for
+  // the fixed-step evaluation and for grains that join a run (Simulation::particles_added,
+  // fluid_lead 0). Inlined: the fixed-step gather calls it for every particle at every step,
+  // and a dry bed reads nothing of the fluid's.
+  [[gnu::always_inline]] BodyLoad body_load(const Particles& p, std::size_t i, double fluid_lead) const {
+    BodyLoad body{p.mass[i] * model_->gravity, {}};
+    if (!model_->fluid.enabled) return body;
+    Vec3 u = p.velocity[i], w = p.omega[i];
+    if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
+    const FluidLoad fl = fluid_load(model_->fluid, 2 * p.radius[i], model_->gravity, u, w, crowding(i));
+    body.force += fl.force;
+    body.torque = fl.torque;
+    return body;
+  }
   // The world's particles were renumbered (sort_spatially): the lists are rebuilt at the
   // next evaluation.
   void renumbered() { built_at_.clear(); }

@@ -61,7 +61,7 @@ void Simulation::particles_added(std::size_t first) {
   Particles& p = world_.particles;
   forces_.admit_new_particles(p);
   for (std::size_t i = first; i < p.size(); ++i) {
-    const BodyLoad body = body_load(*model_, p, i, 0);
+    const BodyLoad body = forces_.body_load(p, i, 0);
     p.force[i] = body.force;
     p.torque[i] = body.torque;
     p.contact_count[i] = 0;
