@@ -1,18 +1,26 @@
 #!/usr/bin/env -S /usr/bin/python3
 """Figures and tables of the sedimentation report (docs/validation/sedimentation.md).
 
-    plot_sedimentation.py [--sweeps DIR] [--out DIR] [--markdown]
+    plot_sedimentation.py [--sweeps DIR] [--previous CSV] [--out DIR] [--markdown]
 
 Reads DIR/<sweep>/results.csv (default DIR: out/sweeps of the repository) of the sweeps of
-examples/sedimentation/sweeps/ (fig5-6, vacuum, finite-size, fig7-rest (the mixtures at rest), box,
-fig7-stop (the same by the paper's protocol), fig8, and the variants fig5-6-hindered,
-fig7-hindered with hindered settling, rcp-mono and rcp without friction), and the series.csv
-of each fig8 case; only cases with status ok enter the figures. Writes into --out (default:
-docs/validation of the repository):
+examples/sedimentation/sweeps/ (fig5-6 (one size at rest), fig5-6-stop (the same by the
+paper's protocol), vacuum, finite-size, fig7-rest (the mixtures at rest), box, fig7-stop (the
+same by the paper's protocol), fig8, and the variants fig5-6-hindered, fig7-hindered with
+hindered settling, rcp-mono and rcp without friction), the series.csv of each fig8 case and
+the profiles of each box and finite-size case; only cases with status ok enter the figures.
+A sweep not found in DIR is read from the rows of --previous (default: the report's own
+sedimentation.csv), so that runs made on other machines stay in the report; its figures that
+need a run's folder (fig8's series, the profiles) are then not drawn for it. Writes into
+--out (default: docs/validation of the repository):
 
-    sedimentation-phi-z.png        solid fraction against Z without rattlers (Fig. 5)
-    sedimentation-flux.png         porosity against the flux Q/Q_0, water and vacuum (Fig. 6)
-    sedimentation-finite-size.png  porosity and Z against the box size L/d
+    sedimentation-phi-z.png        solid fraction against Z without rattlers at rest (Fig. 5),
+                                   a panel per friction law, water and vacuum
+    sedimentation-flux.png         porosity against the flux Q/Q_0 (Fig. 6), a panel per
+                                   friction law: water and vacuum at rest, water by the
+                                   paper's protocol
+    sedimentation-finite-size.png  porosity (0.15-0.35 L and the slab kept 2 d clear of floor
+                                   and surface) and Z against the box size L/d, at rest
     sedimentation-fig7.png         porosity of Talbot mixtures against their spread (Fig. 7),
                                    a panel per friction law at Q_0, at rest and by the paper's
                                    protocol, with the frictionless deposits and Desmond & Weeks
@@ -49,12 +57,17 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-SWEEPS = ("fig5-6", "vacuum", "finite-size", "fig7-rest", "fig7-stop", "box", "fig8", "fig5-6-hindered",
-          "fig7-hindered", "rcp-mono", "rcp")
+SWEEPS = ("fig5-6", "fig5-6-stop", "vacuum", "finite-size", "fig7-rest", "fig7-stop", "box", "fig8",
+          "fig5-6-hindered", "fig7-hindered", "rcp-mono", "rcp")
 WITHOUT_FLUID = {"vacuum"}
 MIXTURES = {"fig7-rest", "fig7-stop", "box", "fig8", "fig7-hindered", "rcp"}
+AT_THE_STOP = {"fig5-6-stop", "fig7-stop"}  # the paper's protocol; every other sweep measures at rest
+PROTOCOLS = {True: "paper's stop", False: "at rest"}
+PROFILED = {"box", "finite-size"}  # sweeps whose slab kept clear of floor and surface is read from the profiles
 # What a sweep sets for all its cases ([set], not a parameter of its results.csv).
-SWEEP_CONSTANTS = {"box": {"S": 0.0, "Sigma": 2.0794, "law": "bounded"}}
+SWEEP_CONSTANTS = {"box": {"S": 0.0, "Sigma": 2.0794, "law": "bounded"}, "fig8": {"S": 0.0, "Sigma": 2.0794, "law": "bounded"},
+                   "finite-size": {"law": "bounded"}, "fig5-6-hindered": {"law": "bounded"},
+                   "fig7-hindered": {"law": "bounded"}}
 LAWS = {"total": "bounded", "spring": "as printed"}  # contact.default.friction_bound
 VARIANTS = {"fig5-6-hindered": "hindered", "fig7-hindered": "hindered", "rcp-mono": "frictionless",
             "rcp": "frictionless"}  # the others: the paper's model
@@ -67,8 +80,9 @@ RANDOM_LOOSE, RANDOM_CLOSE = 0.55, 0.64  # solid fractions of random packings of
 RESULTS = ("porosity", "porosity_exact", "porosity_standard_error", "porosity_grains", "coordination",
            "coordination_no_rattlers", "coordination_no_rattlers_4", "gamma_upper", "gamma_lower",
            "wall_time_s", "particles")
-CSV_COLUMNS = ("sweep", "case", "status", "phi_0", "Q_over_Q0", "S", "Sigma", "L_over_d", "seed", "fluid",
-               "variant", "law", *RESULTS)
+CLEAR_SLAB = ("clear_low", "clear_high", "porosity_clear")
+CSV_COLUMNS = ("sweep", "case", "status", "protocol", "phi_0", "Q_over_Q0", "S", "Sigma", "L_over_d", "seed",
+               "fluid", "variant", "law", *RESULTS, *CLEAR_SLAB)
 
 
 def wu_wang_porosity(d50_mm):
@@ -160,14 +174,14 @@ def case_from_row(folder, sweep, row):
             "L_over_d": round(box_size(row) / D_MAX, 2),
             "seed": int(row.get("simulation.seed") or 1),  # 1: the examples' seed
             "fluid": "no" if sweep in WITHOUT_FLUID else "yes", "variant": VARIANTS.get(sweep, ""),
-            "law": LAWS.get(row.get("contact.default.friction_bound", ""), "")}
+            "law": LAWS.get(row.get("contact.default.friction_bound", ""), ""), "protocol": PROTOCOLS[sweep in AT_THE_STOP]}
     if sweep in MIXTURES:
         for name, key in TALBOT_PARAMETERS.items():
             case[name] = number(row[key]) if key in row else POLY_EXAMPLE[name]
     case.update(SWEEP_CONSTANTS.get(sweep, {}))
-    # The box sweep's second slab, read once from the deposit's profile at rest.
+    # The second slab of the box and finite-size sweeps, read once from the deposit's profile at rest.
     case["clear_low"], case["clear_high"], case["porosity_clear"] = (
-        clear_slab(case["folder"]) if sweep == "box" and ok else (math.nan, math.nan, math.nan))
+        clear_slab(case["folder"]) if sweep in PROFILED and ok else (math.nan, math.nan, math.nan))
     for key in RESULTS:
         case[key] = number(row.get(key, "")) if ok else math.nan
     case["coordination_no_rattlers"] = without_empty(case["coordination_no_rattlers"], 2)
@@ -175,14 +189,36 @@ def case_from_row(folder, sweep, row):
     return case
 
 
-def read_sweeps(folder):
-    """{sweep: [case, ...]} of the sweeps whose results.csv exists, in SWEEPS order."""
-    found = {}
+def case_from_csv(row):
+    """A case of sedimentation.csv (a row written by write_csv), without an output folder."""
+    case = {key: number(row.get(key, "")) for key in (*RESULTS, *CLEAR_SLAB, "phi_0", "Q_over_Q0", "S", "Sigma",
+                                                       "L_over_d")}
+    case.update({key: row[key] for key in ("sweep", "case", "status", "fluid", "variant", "law")})
+    case.update(folder=None, seed=int(row["seed"]),
+                protocol=row.get("protocol") or PROTOCOLS[row["sweep"] in AT_THE_STOP])
+    return case
+
+
+def read_sweeps(folder, previous=None):
+    """{sweep: [case, ...]} in SWEEPS order: the sweeps whose results.csv exists under folder,
+    and for the others the rows of the previous sedimentation.csv (if given and present). In a
+    sweep found under folder, a case that has not finished there (pending, failed,
+    interrupted) keeps the previous row of the same case if that one finished."""
+    found, earlier = {}, {}
+    if previous and Path(previous).exists():
+        with open(previous, newline="") as f:
+            for row in csv.DictReader(f):
+                earlier.setdefault(row["sweep"], {})[row["case"]] = case_from_csv(row)
     for sweep in SWEEPS:
         path = Path(folder) / sweep / "results.csv"
+        before = earlier.get(sweep, {})
         if path.exists():
             with open(path, newline="") as f:
-                found[sweep] = [case_from_row(folder, sweep, row) for row in csv.DictReader(f)]
+                cases = [case_from_row(folder, sweep, row) for row in csv.DictReader(f)]
+            found[sweep] = [c if c["status"] == "ok" or before.get(c["case"], c)["status"] != "ok" else before[c["case"]]
+                            for c in cases]
+        elif before:
+            found[sweep] = list(before.values())
     return found
 
 
@@ -233,35 +269,55 @@ def box_label(cases):
     return "L/d = " + ", ".join(f"{b:g}" for b in sorted({c["L_over_d"] for c in cases}))
 
 
+def law_panels(cases, width=5.5, height=4.5):
+    """(figure, [(law, axes)]): a panel per friction law of the cases, bounded first."""
+    laws = sorted({c["law"] for c in cases}, key=lambda law: (law != "bounded", law))
+    fig, axes = plt.subplots(1, len(laws), figsize=(width * len(laws) + 1, height), sharey=True,
+                             layout="constrained", squeeze=False)
+    return fig, list(zip(laws, axes[0]))
+
+
+def finish_law_panels(fig, panels, png, ylabel, title, legend="small"):
+    """law_panels' titles, grids, the first panel's y label and legend; writes png."""
+    for law, ax in panels:
+        ax.set_title(f"friction law {law}", fontsize="medium")
+        ax.grid(alpha=0.3)
+    panels[0][1].set_ylabel(ylabel)
+    panels[0][1].legend(fontsize=legend)
+    save(fig, png, title + "; error bars: standard error of the mean over the seeds")
+
+
 def plot_phi_z(sweeps, png):
-    """Fig. 5: solid fraction against Z without rattlers (< 4 contacts), water and vacuum, with
-    the Song-Wang-Makse line and the random loose and close packings of one size. False without data."""
+    """Fig. 5 at rest: solid fraction against Z without rattlers (< 4 contacts), a panel per
+    friction law, water and vacuum, with the frictionless deposits, the Song-Wang-Makse line
+    and the random loose and close packings of one size. False without data."""
     water, vacuum = finished(sweeps, "fig5-6"), finished(sweeps, "vacuum")
     if not water + vacuum:
         return False
-    fig, ax = plt.subplots(figsize=(6.5, 5), layout="constrained")
-    for cases, medium in ((water, "water"), (vacuum, "vacuum")):
-        for (q,), group in by(cases, "Q_over_Q0"):
-            z, z_error = over_seeds(group, "coordination_no_rattlers_4")
-            porosity, porosity_error = over_seeds(group, "porosity")
-            colour, marker = flux_style(q)
-            ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error),
-                        color=colour, capsize=3,
-                        marker="*" if medium == "vacuum" else marker, ms=12 if medium == "vacuum" else 7,
-                        ls="none", label=f"{medium}, Q/Q0 = {q:g}")
-    frictionless = finished(sweeps, "rcp-mono")
-    if frictionless:
-        z, z_error = over_seeds(frictionless, "coordination_no_rattlers_4")
-        porosity, porosity_error = over_seeds(frictionless, "porosity")
-        ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error), color="k", marker="P", ms=9, ls="none",
-                    capsize=3, label="water, no friction, Q/Q0 = 1")
-    z = np.linspace(3.5, 6.5, 50)
-    ax.plot(z, song_wang_makse(z), "k-", lw=1, label="Song, Wang & Makse: φ = Z/(Z + 2√3)")
-    ax.axhline(RANDOM_LOOSE, color="0.5", ls="--", lw=1, label=f"random loose packing {RANDOM_LOOSE}")
-    ax.axhline(RANDOM_CLOSE, color="0.5", ls=":", lw=1, label=f"random close packing {RANDOM_CLOSE}")
-    ax.set_xlabel("Z without rattlers (grains with fewer than 4 contacts left out)")
-    ax.set_ylabel("solid fraction φ = 1 - porosity")
-    save_one_size(fig, ax, water + vacuum, png)
+    fig, panels = law_panels(water + vacuum)
+    for law, ax in panels:
+        for cases, medium in ((water, "water"), (vacuum, "vacuum")):
+            for (q,), group in by([c for c in cases if c["law"] == law], "Q_over_Q0"):
+                z, z_error = over_seeds(group, "coordination_no_rattlers_4")
+                porosity, porosity_error = over_seeds(group, "porosity")
+                colour, marker = flux_style(q)
+                ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error),
+                            color=colour, capsize=3,
+                            marker="*" if medium == "vacuum" else marker, ms=12 if medium == "vacuum" else 7,
+                            ls="none", label=f"{medium}, Q/Q0 = {q:g}")
+        frictionless = finished(sweeps, "rcp-mono")
+        if frictionless:
+            z, z_error = over_seeds(frictionless, "coordination_no_rattlers_4")
+            porosity, porosity_error = over_seeds(frictionless, "porosity")
+            ax.errorbar(z, 1 - porosity, xerr=bars(z_error), yerr=bars(porosity_error), color="k", marker="P", ms=9,
+                        ls="none", capsize=3, label="water, no friction, Q/Q0 = 1")
+        z = np.linspace(3.5, 6.5, 50)
+        ax.plot(z, song_wang_makse(z), "k-", lw=1, label="Song, Wang & Makse: φ = Z/(Z + 2√3)")
+        ax.axhline(RANDOM_LOOSE, color="0.5", ls="--", lw=1, label=f"random loose packing {RANDOM_LOOSE}")
+        ax.axhline(RANDOM_CLOSE, color="0.5", ls=":", lw=1, label=f"random close packing {RANDOM_CLOSE}")
+        ax.set_xlabel("Z without rattlers (fewer than 4 contacts left out)")
+    finish_law_panels(fig, panels, png, "solid fraction φ = 1 - porosity",
+                      f"One size, d = 1 cm, {box_label(water + vacuum)}, at rest", legend="x-small")
     return True
 
 
@@ -273,51 +329,49 @@ def save(fig, png, title=None):
     plt.close(fig)
 
 
-def save_one_size(fig, ax, cases, png):
-    """The one-size figures' title (with the box), legend and grid; writes png."""
-    ax.set_title(f"One size, d = 1 cm, {box_label(cases)}", fontsize="medium")
-    ax.legend(fontsize="small")
-    ax.grid(alpha=0.3)
-    save(fig, png)
-
-
 def plot_flux(sweeps, png):
-    """Fig. 6: porosity against the flux, water and vacuum, with Wu & Wang at d50 = d. False without data."""
-    water, vacuum = finished(sweeps, "fig5-6"), finished(sweeps, "vacuum")
+    """Fig. 6: porosity against the flux, a panel per friction law: water and vacuum at rest,
+    water by the paper's protocol (dashed), and Wu & Wang at d50 = d. False without data."""
+    water, stop, vacuum = finished(sweeps, "fig5-6"), finished(sweeps, "fig5-6-stop"), finished(sweeps, "vacuum")
     if not water + vacuum:
         return False
-    fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
-    for cases, medium, marker in ((water, "water", "o"), (vacuum, "vacuum", "*")):
-        points = [(q, *over_seeds(group, "porosity"))
-                  for (q,), group in by(cases, "Q_over_Q0")]
-        if points:
-            q, porosity, error = zip(*points)
-            ax.errorbar(q, porosity, yerr=bars(error), marker=marker, ms=12 if medium == "vacuum" else 7,
-                        capsize=3, label=medium)
+    fig, panels = law_panels(water + vacuum)
     d50_mm = D_MAX * 1e3
     predicted = wu_wang_porosity(d50_mm)
-    ax.axhline(predicted, color="k", ls="--", lw=1, label=f"Wu & Wang, d50 = {d50_mm:g} mm: {predicted:.3f}")
     fluxes = sorted({c["Q_over_Q0"] for c in water + vacuum})
-    ax.set_xscale("log")
-    ax.set_xticks(fluxes, [f"{q:g}" for q in fluxes])
-    ax.minorticks_off()
-    ax.set_xlabel("flux Q/Q0 (= φ0/0.1)")
-    ax.set_ylabel("porosity of 0.15 L < z < 0.35 L")
-    save_one_size(fig, ax, water + vacuum, png)
+    for law, ax in panels:
+        for cases, label, style, size in ((water, "water, at rest", "o-", 7), (vacuum, "vacuum, at rest", "*-", 12),
+                                          (stop, "water, paper's protocol", "x--", 7)):
+            points = [(q, *over_seeds(group, "porosity"))
+                      for (q,), group in by([c for c in cases if c["law"] == law], "Q_over_Q0")]
+            if points:
+                q, porosity, error = zip(*points)
+                ax.errorbar(q, porosity, yerr=bars(error), fmt=style, ms=size, capsize=3, label=label)
+        ax.axhline(predicted, color="k", ls=":", lw=1, label=f"Wu & Wang, d50 = {d50_mm:g} mm: {predicted:.3f}")
+        ax.set_xscale("log")
+        ax.set_xticks(fluxes, [f"{q:g}" for q in fluxes])
+        ax.minorticks_off()
+        ax.set_xlabel("flux Q/Q0 (= φ0/0.1)")
+    finish_law_panels(fig, panels, png, "porosity of 0.15 L < z < 0.35 L", f"One size, d = 1 cm, {box_label(water + vacuum)}")
     return True
 
 
 def plot_finite_size(sweeps, png):
-    """Porosity and Z (both rattler definitions) against the box size L/d. False without data."""
+    """Porosity (the 0.15-0.35 L slab, and the slab kept 2 d clear of floor and surface) and Z
+    (both rattler definitions) against the box size L/d, at rest. False without data."""
     cases = finished(sweeps, "finite-size")
     if not cases:
         return False
     groups = by(cases, "L_over_d")
     sizes = [size for (size,), _ in groups]
     fig, (ax_porosity, ax_z) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
-    porosity = [over_seeds(g, "porosity") for _, g in groups]
-    ax_porosity.errorbar(sizes, *zip(*porosity), marker="o", capsize=3)
-    ax_porosity.set_ylabel("porosity of 0.15 L < z < 0.35 L")
+    for key, label, marker in (("porosity", "0.15 L < z < 0.35 L", "o"), ("porosity_clear", "2 d clear", "s")):
+        points = [(size, *over_seeds(g, key)) for (size,), g in groups if not math.isnan(over_seeds(g, key)[0])]
+        if points:
+            size, mean, error = zip(*points)
+            ax_porosity.errorbar(size, mean, yerr=bars(error), marker=marker, capsize=3, label=label)
+    ax_porosity.set_ylabel("porosity at rest")
+    ax_porosity.legend(fontsize="small")
     for key, label in (("coordination_no_rattlers", "fewer than 2 contacts left out"),
                        ("coordination_no_rattlers_4", "fewer than 4 contacts left out")):
         z = [over_seeds(g, key) for _, g in groups]
@@ -331,7 +385,7 @@ def plot_finite_size(sweeps, png):
         ax.set_xlabel("box size L/d")
         ax.grid(alpha=0.3)
     q = sorted({c["Q_over_Q0"] for c in cases})
-    save(fig, png, f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}; "
+    save(fig, png, f"One size, d = 1 cm, in water at Q/Q0 = {', '.join(f'{v:g}' for v in q)}, bounded law, at rest; "
                    "error bars: standard error of the mean over the seeds")
     return True
 
@@ -419,7 +473,8 @@ def plot_hindered(sweeps, png):
         return False
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
     fluxes = sorted({c["Q_over_Q0"] for c in one_size})
-    for cases, label, style in ((finished(sweeps, "fig5-6"), "paper's fluid", "o-"), (one_size, "hindered settling", "s--")):
+    plain_one_size = [c for c in finished(sweeps, "fig5-6") if c["law"] == "bounded"]
+    for cases, label, style in ((plain_one_size, "paper's fluid", "o-"), (one_size, "hindered settling", "s--")):
         points = [(q, *over_seeds(g, "porosity"))
                   for (q,), g in by(cases, "Q_over_Q0") if q in fluxes]
         if points:
@@ -430,7 +485,7 @@ def plot_hindered(sweeps, png):
     left.minorticks_off()
     left.set_xlabel("flux Q/Q0")
     left.set_ylabel("porosity of 0.15 L < z < 0.35 L")
-    left.set_title(f"One size, d = 1 cm, {box_label(one_size or finished(sweeps, 'fig5-6'))}", fontsize="medium")
+    left.set_title(f"One size, d = 1 cm, {box_label(one_size or plain_one_size)}, bounded law", fontsize="medium")
     plain = [c for c in fig7_cases(sweeps) if c["Q_over_Q0"] == 1 and c["law"] == "bounded"]
     for cases, label, style in ((plain, "paper's fluid", "o-"), (mixtures, "hindered", "s--")):
         for n, ((exponent,), line) in enumerate(by(cases, "S")):
@@ -443,7 +498,7 @@ def plot_hindered(sweeps, png):
     for ax in (left, right):
         ax.grid(alpha=0.3)
         ax.legend(fontsize="small")
-    save(fig, png, "Hindered settling (Richardson-Zaki) against the paper's fluid; "
+    save(fig, png, "Hindered settling (Richardson-Zaki) against the paper's fluid, at rest; "
                    "error bars: standard error of the mean over the seeds")
     return True
 
@@ -457,7 +512,7 @@ def read_series(path):
 
 def plot_fig8(sweeps, png):
     """Fig. 8: Gamma of the upper and lower layers against time, a panel per flux. False without data."""
-    cases = finished(sweeps, "fig8")
+    cases = [c for c in finished(sweeps, "fig8") if c["folder"]]
     if not cases:
         return False
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases) + 1, 4.5), sharey=True,
@@ -476,6 +531,9 @@ def plot_fig8(sweeps, png):
             ax.plot(series["time"][shown], gamma[shown], "k" + style, alpha=0.25, lw=0.8)
             ax.plot(series["time"][shown & deposit], gamma[shown & deposit], "k" + style,
                     label=f"{layer} layer ({heights}), deposit over it")
+        stopped = series["time"][series["slice_height"] >= 0.4 * box - 1e-9] if "slice_height" in series else []
+        if len(stopped):
+            ax.axvline(stopped[0], color="C3", ls=":", lw=1, label="the paper's stop (slice rule at 0.4 L)")
         ax.set_title(f"Q/Q0 = {case['Q_over_Q0']:g}", fontsize="medium")
         ax.set_xlabel("time (s)")
         ax.grid(alpha=0.3)
@@ -512,7 +570,7 @@ def clear_slab(folder):
 def plot_box(sweeps, png):
     """The mixture in boxes of 4 and 8 d_max: solid fraction against height at rest (each
     seed), with the two slabs, and their porosities against the box. False without data."""
-    cases = finished(sweeps, "box")
+    cases = [c for c in finished(sweeps, "box") if c["folder"]]
     if not cases:
         return False
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.8), layout="constrained")
@@ -584,7 +642,9 @@ COLUMNS = {  # column: (heading, digits)
     "coordination": ("Z", 2), "coordination_no_rattlers": ("Z (< 2 out)", 2),
     "coordination_no_rattlers_4": ("Z (< 4 out)", 2), "gamma_upper": ("Γ upper", 3),
     "gamma_lower": ("Γ lower", 3), "wall_time_s": ("wall time (s)", 0),
+    "porosity_clear": ("porosity, 2 d clear", 3),
 }
+WITH_ERRORS = {"porosity", "porosity_clear"}  # and the coordinations
 
 
 def deposit_cells(group, keys):
@@ -592,7 +652,7 @@ def deposit_cells(group, keys):
     standard error of the mean (none for one seed), the others as means."""
     cells = []
     for key in keys:
-        if key == "porosity" or key.startswith("coordination"):
+        if key in WITH_ERRORS or key.startswith("coordination"):
             mean, error = over_seeds(group, key)
         else:
             mean, error = over_seeds(group, key)[0], math.nan
@@ -609,15 +669,18 @@ MIXTURE = ("porosity", "porosity_exact", "porosity_grains", "coordination", "coo
 def markdown(sweeps):
     """The report's tables (Markdown), one per sweep present, then the mixtures' statistics."""
     lines = []
-    one_size = (("Figs. 5-6, one size", finished(sweeps, "fig5-6") + finished(sweeps, "vacuum")
-                 + finished(sweeps, "fig5-6-hindered") + finished(sweeps, "rcp-mono")),
-                ("Finite size, one size", finished(sweeps, "finite-size")))
-    for title, cases in one_size:
+    one_size = (("Figs. 5-6, one size", ONE_SIZE, finished(sweeps, "fig5-6") + finished(sweeps, "fig5-6-stop")
+                 + finished(sweeps, "vacuum") + finished(sweeps, "fig5-6-hindered") + finished(sweeps, "rcp-mono")),
+                ("Finite size, one size", (*ONE_SIZE, "porosity_clear"), finished(sweeps, "finite-size")))
+    for title, columns, cases in one_size:
         if cases:
-            rows = [[fluid, variant or "–", f"{size:g}", f"{q:g}", str(len(g)), *deposit_cells(g, ONE_SIZE)]
-                    for (fluid, variant, size, q), g in by(cases, "fluid", "variant", "L_over_d", "Q_over_Q0")]
-            lines += [f"{title} (mean ± standard deviation over the seeds):", "",
-                      *table(["fluid", "variant", "L/d", "Q/Q0", "seeds", *(COLUMNS[k][0] for k in ONE_SIZE)], rows), ""]
+            rows = [[fluid, variant or "–", law or "–", protocol, f"{size:g}", f"{q:g}", str(len(g)),
+                     *deposit_cells(g, columns)]
+                    for (fluid, variant, law, protocol, size, q), g in
+                    by(cases, "fluid", "variant", "law", "protocol", "L_over_d", "Q_over_Q0")]
+            lines += [f"{title} (±: the standard error of the mean over the seeds):", "",
+                      *table(["fluid", "variant", "friction law", "protocol", "L/d", "Q/Q0", "seeds",
+                              *(COLUMNS[k][0] for k in columns)], rows), ""]
     mixtures = (fig7_cases(sweeps) + fig7_cases(sweeps, "stop") + finished(sweeps, "fig8") + finished(sweeps, "fig7-hindered")
                 + finished(sweeps, "rcp"))
     if mixtures:
@@ -660,16 +723,19 @@ def markdown(sweeps):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sweeps", type=Path, default=ROOT / "out" / "sweeps", help="folder of the sweeps' outputs")
+    parser.add_argument("--previous", type=Path, default=ROOT / "docs" / "validation" / "sedimentation.csv",
+                        help="sedimentation.csv whose rows stand in for the sweeps not found under --sweeps")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "validation", help="folder to write into")
     parser.add_argument("--markdown", action="store_true", help="print the report's tables, write nothing")
     args = parser.parse_args()
-    sweeps = read_sweeps(args.sweeps)
+    sweeps = read_sweeps(args.sweeps, args.previous)
     if args.markdown:
         print(markdown(sweeps))
         return
     for sweep in SWEEPS:
         if sweep in sweeps:
-            print(f"sweep {sweep}: {len(finished(sweeps, sweep))} of {len(sweeps[sweep])} cases ok")
+            source = f", from {args.previous}" if sweeps[sweep] and not sweeps[sweep][0]["folder"] else ""
+            print(f"sweep {sweep}: {len(finished(sweeps, sweep))} of {len(sweeps[sweep])} cases ok{source}")
         else:
             print(f"sweep {sweep}: no {args.sweeps / sweep / 'results.csv'}, skipped")
     args.out.mkdir(parents=True, exist_ok=True)

@@ -328,8 +328,17 @@ def test_a_tsubu_that_is_not_an_executable_is_refused(tmp_path):
     assert done.returncode == 2 and done.stderr.startswith(f"error: TSUBU_BINARY {SCENARIO}: names no executable file")
 
 
-@pytest.mark.parametrize("name, count", [("ci", 4), ("fig5-6", 12), ("fig7-rest", 288), ("fig7-stop", 288), ("fig8", 2),
-                                         ("finite-size", 9), ("rcp", 24), ("fig7-hindered", 36), ("vacuum", 9)])
+EXAMPLE_SWEEPS = {"ci": 4, "fig5-6": 24, "fig5-6-stop": 24, "vacuum": 18, "finite-size": 9, "fig5-6-hindered": 6,
+                  "rcp-mono": 3, "fig7-rest": 288, "fig7-stop": 288, "box": 4, "fig8": 2, "rcp": 24, "fig7-hindered": 36,
+                  "readings": 12}
+
+
+def test_every_example_sweep_is_checked():
+    folder = ROOT / "examples" / "sedimentation" / "sweeps"
+    assert sorted(p.stem for p in folder.glob("*.toml")) == sorted(EXAMPLE_SWEEPS)
+
+
+@pytest.mark.parametrize("name, count", EXAMPLE_SWEEPS.items())
 def test_example_sweeps_dry_run(tmp_path, name, count):
     """The sedimentation sweeps are valid: every case passes `tsubu check` (nothing is run)."""
     done = sweep(ROOT / "examples" / "sedimentation" / "sweeps" / f"{name}.toml", "--dry-run", cwd=tmp_path)
