@@ -68,7 +68,7 @@ Bed settling_from_rest(double dt) { return settling_grain(dt, 0); }
 // A cos(omega t), omega = sqrt(k/m).
 Bed oscillating_on_floor(double dt) {
   ContactSpec spec = spec_of("linear", "none", 1.0);
-  spec.stiffness = 50;
+  spec.values.set("stiffness", 50.0);
   Bed b = make_world(kQuartz, spec, dt, {0, 0, -9.81});
   auto& [w, model] = b;
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
@@ -163,7 +163,7 @@ TEST(BlockHermite, DashpotsAreCorrectedToTheCorrectedVelocities) {
   // corrected velocities, while lambda h < 2.5. At h = 1 us (lambda h ~ 1.8 by the rule of
   // ForceField::compute_active, which bounds lambda) the motion must die out.
   ContactSpec spec = spec_of("hertz_sediment", "mindlin", 0.5, 0.5);
-  spec.alpha = 0.2;
+  spec.values.set("alpha", 0.2);
   Bed b = make_world(kQuartz, spec, 1e-6 * 16, {0, 0, -9.81});
   auto& [w, model] = b;
   model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 #include "scenario_run.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -24,7 +25,7 @@ constexpr double kDrop = 1e-5, kRadius = 0.5e-3;
 
 Simulation bouncing_grain(double dt, const char* normal, Integrator integrator) {
   ContactSpec spec = spec_of(normal, "none", 1.0);
-  spec.stiffness = 50;
+  if (std::string_view(normal) == "linear") spec.values.set("stiffness", 50.0);
   auto [w, model] = make_world({"soft", 2650, 2.5e6, 0.17}, spec, dt, {0, 0, -9.81});
   w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
   w.particles.add(0, 0, 2 * kRadius, 2650, {0, 0, kRadius + kDrop}, {});

@@ -145,19 +145,19 @@ TEST(HookeHysteresis, DampingAndTheNoTensionClamp) {
 
 TEST(HookeHysteresis, PairLawUsesKnForTheTangentialSpring) {
   ContactSpec spec = testing::spec_of("hooke_hysteresis", "linear_coulomb", 0.5, 0.3);
-  spec.characteristic_velocity = 1;
-  spec.max_stiffness_ratio = 2;
-  spec.plasticity_depth = 0.05;
+  spec.values.set("characteristic_velocity", 1.0);
+  spec.values.set("max_stiffness_ratio", 2.0);
+  spec.values.set("plasticity_depth", 0.05);
   const Material glass{"glass", 2500, 1e7, 0.3};
   PairLaw law = make_pair_law(spec, glass, glass);
   const auto& t = std::get<LinearCoulomb>(law.tangential);
   EXPECT_EQ(t.stiffness_ratio, 1.0);
   EXPECT_EQ(t.damping_ratio, 1.0);
   EXPECT_TRUE(t.projected);
-  spec.tangential_damping = false;
+  spec.values.set("tangential_damping", false);
   law = make_pair_law(spec, glass, glass);
   EXPECT_EQ(std::get<LinearCoulomb>(law.tangential).damping_ratio, 0.0);
-  spec.max_stiffness_ratio = 1;
+  spec.values.set("max_stiffness_ratio", 1.0);
   EXPECT_THROW(make_pair_law(spec, glass, glass), std::invalid_argument);
 }
 
@@ -202,12 +202,12 @@ diameter = 0.002
   const ContactSpec& c = sc.default_contact;
   EXPECT_EQ(c.normal, "hooke_hysteresis");
   EXPECT_EQ(c.tangential, "linear_coulomb");  // the default with HH
-  EXPECT_EQ(c.characteristic_velocity, 0.5);
-  EXPECT_EQ(c.max_stiffness_ratio, 4);
-  EXPECT_EQ(c.adhesion_stiffness_ratio, 0.2);
-  EXPECT_EQ(c.plasticity_depth, 0.05);
-  EXPECT_TRUE(c.no_tension);
-  EXPECT_FALSE(c.tangential_damping);
+  EXPECT_EQ(c.values.number("characteristic_velocity"), 0.5);
+  EXPECT_EQ(c.values.number("max_stiffness_ratio"), 4);
+  EXPECT_EQ(c.values.number("adhesion_stiffness_ratio"), 0.2);
+  EXPECT_EQ(c.values.number("plasticity_depth"), 0.05);
+  EXPECT_TRUE(c.values.flag("no_tension"));
+  EXPECT_FALSE(c.values.flag("tangential_damping"));
   ASSERT_EQ(sc.walls.size(), 1u);
   ASSERT_EQ(sc.walls[0].motion.size(), 2u);
   EXPECT_EQ(sc.walls[0].motion[1].until, 0.008);
@@ -237,7 +237,7 @@ diameter = 0.002
 TEST(MovingWall, FollowsItsStretchesAndCarriesItsVelocity) {
   const Material m{"grain", 2500, 1e7, 0.3};
   ContactSpec spec = testing::spec_of("linear", "none", 0.5);
-  spec.stiffness = 1000;
+  spec.values.set("stiffness", 1000.0);
   auto [w, model] = testing::make_world(m, spec, 1e-6);
   Wall plate{{0, 0, 0.00105}, {0, 0, -1}, 0};
   plate.motion = {{2e-4, {0, 0, -0.5}}, {3e-4, {0, 0, 0.25}}};

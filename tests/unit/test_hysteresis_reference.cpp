@@ -93,11 +93,9 @@ CaseResult run_case(const Row& c) {
   const double gap = num(c, "gap"), vn = num(c, "vn"), vt = num(c, "vt");
   const Material m{"grain", rho, num(c, "youngs_modulus"), num(c, "poisson")};
   ContactSpec spec = testing::spec_of("hooke_hysteresis", "linear_coulomb", num(c, "restitution"), num(c, "friction"));
-  spec.characteristic_velocity = num(c, "characteristic_velocity");
-  spec.max_stiffness_ratio = num(c, "max_stiffness_ratio");
-  spec.adhesion_stiffness_ratio = num(c, "adhesion_stiffness_ratio");
-  spec.plasticity_depth = num(c, "plasticity_depth");
-  spec.tangential_damping = c.at("tangential_damping") == "1";
+  for (const char* key : {"characteristic_velocity", "max_stiffness_ratio", "adhesion_stiffness_ratio", "plasticity_depth"})
+    spec.values.set(key, num(c, key));
+  spec.values.set("tangential_damping", c.at("tangential_damping") == "1");
   auto [w, model] = testing::make_world(m, spec, dt);
   Particles& p = w.particles;
   const std::vector<WallMotion> motion = motion_of(c.at("motion"), dt);

@@ -146,7 +146,7 @@ TEST(ContactLaws, RestitutionAndFrictionReachTheModels) {
   ContactSpec spec;
   spec.normal = "linear";
   spec.tangential = "linear_coulomb";
-  spec.stiffness = 1e4;
+  spec.values.set("stiffness", 1e4);
   spec.restitution = 0.7;
   spec.friction = 0.3;
   const Material m{"m", 2500, 1e9, 0.3};

@@ -80,7 +80,7 @@ TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsHertzSediment) {
 // error, never a skipped contact.
 TEST(Pipeline, BlockStepsRefuseALawWithoutRates) {
   ContactSpec spec = testing::spec_of("energy_conserving", "none", 0.9);
-  spec.stiffness = 1000;
+  spec.values.set("stiffness", 1000.0);
   auto [w, model] = testing::make_world({"grain", 2500, 1e7, 0.3}, spec, 1e-6);
   w.particles.add(0, 0, 0.002, 2500, {0, 0, 0}, {});
   w.particles.add(1, 0, 0.002, 2500, {0.0019, 0, 0}, {});

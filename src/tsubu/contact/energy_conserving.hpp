@@ -6,10 +6,12 @@
 // and an impulse f changes u by f; the real force over the step is F_n = -f m* d_c / dt^2.
 // The energy (a d^2 + u^2)/2 is what the model conserves.
 #pragma once
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include "tsubu/contact/geometry.hpp"
+#include "tsubu/contact/law_traits.hpp"
 #include "tsubu/contact/normal_models.hpp"
 
 namespace tsubu {
@@ -58,16 +60,33 @@ inline NormalForce to_force(const ContactGeometry& g, const State& st, double f,
   return out;
 }
 
+// The traits models P and F share: the keys, the integrator (symplectic Euler, on fixed
+// steps) and the builder.
+inline constexpr std::array keys = {
+    kStiffnessKey,  // d_c: 0 (the default) stands for the pair's smaller diameter
+    law_key::number("characteristic_length", KeyKind::positive, 0, "the length d_c in m of the dimensionless variables")};
+inline constexpr std::array integrators = {kFixedSteps, kSymplecticEulerOnly};
+template <class Model>
+Model build(const LawInput& in) {
+  return {in.number("stiffness"), in.restitution, damping_ratio(in.restitution), in.number("characteristic_length")};
+}
+
 }  // namespace energy_contact
 
 // Model P: the paper's model, with the contact-step state correction.
 struct EnergyConserving {
-  static constexpr const char* name = "energy_conserving (P)";
+  static constexpr std::string_view name = "energy_conserving";
+  static constexpr std::string_view label = "energy_conserving (P)";
+  static constexpr auto keys = energy_contact::keys;
+  static constexpr auto integrators = energy_contact::integrators;
+  static constexpr bool linear_spring = true;      // the tangential models see k_n and 2 beta sqrt(m* k_n)
+  static constexpr bool exact_whatever_dt = true;  // the restitution in three steps: a long contact is no error of dt
   static constexpr bool corrects_position = true;
   double k_n = 0;                    // N/m
   double e = 1;                      // restitution
   double beta = 0;                   // damping ratio of e, for the tangential model
   double characteristic_length = 0;  // m, 0: the smaller diameter of the pair
+  static EnergyConserving build(const LawInput& in) { return energy_contact::build<EnergyConserving>(in); }
   // Half a period of the spring, s, and the elastic peak overlap at approach speed u, m.
   double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
   double peak_overlap(double m_eff, double, double u) const { return u * std::sqrt(m_eff / k_n); }
@@ -92,11 +111,21 @@ struct EnergyConserving {
 // Model F: the authors' 2005 model as reconstructed in docs/engine.md ("F (reconstructed)"). No
 // correction of the contact step; mode 1 split by the line s = 1/e.
 struct EnergyConserving2005 {
-  static constexpr const char* name = "energy_conserving_2005 (F, reconstructed)";
+  static constexpr std::string_view name = "energy_conserving_2005";
+  static constexpr std::string_view label = "energy_conserving_2005 (F, reconstructed)";
+  static constexpr auto keys = energy_contact::keys;
+  static constexpr auto integrators = energy_contact::integrators;
+  static constexpr bool linear_spring = true;
+  static constexpr bool exact_whatever_dt = true;
+  // What a non-finite force of this model means, for the message that stops the run.
+  static constexpr std::string_view when_not_finite =
+      "for energy_conserving_2005 this means the contact left the reconstructed model's range, (a+1) e^2 u^2 < a d^2:"
+      " raise e or lower k_n dt^2/m*";
   double k_n = 0;
   double e = 1;
   double beta = 0;
   double characteristic_length = 0;
+  static EnergyConserving2005 build(const LawInput& in) { return energy_contact::build<EnergyConserving2005>(in); }
   double collision_time(double m_eff, double, double) const { return M_PI * std::sqrt(m_eff / k_n); }
   double peak_overlap(double m_eff, double, double u) const { return u * std::sqrt(m_eff / k_n); }
 

@@ -6,14 +6,30 @@
 
 namespace tsubu {
 
-double effective_modulus(const Material& a, const Material& b) {
-  return 1.0 / ((1 - a.poisson * a.poisson) / a.youngs_modulus + (1 - b.poisson * b.poisson) / b.youngs_modulus);
-}
+namespace {
 
-double effective_shear_modulus(const Material& a, const Material& b) {
-  auto term = [](const Material& m) { return 2 * (2 - m.poisson) * (1 + m.poisson) / m.youngs_modulus; };
-  return 1.0 / (term(a) + term(b));
+// Every registered law is well formed (law.hpp), and the two registries' key names are
+// apart: one scenario key feeds one law, and no law takes a generic key's name.
+template <class... Laws>
+constexpr bool well_formed_normal_laws(std::variant<Laws...>*) { return (well_formed_normal_law<Laws>() && ...); }
+template <class... Laws>
+constexpr bool well_formed_tangential_laws(std::variant<Laws...>*) { return (well_formed_tangential_law<Laws>() && ...); }
+static_assert(well_formed_normal_laws(static_cast<NormalModel*>(nullptr)));
+static_assert(well_formed_tangential_laws(static_cast<TangentialModel*>(nullptr)));
+
+constexpr bool keys_apart() {
+  for (const LawTraits& n : kNormalLaws)
+    for (const LawKey& k : n.keys) {
+      for (std::string_view generic : {"normal", "tangential", "restitution", "friction", "materials"})
+        if (k.name == generic) return false;
+      for (const LawTraits& t : kTangentialLaws)
+        if (t.key(k.name)) return false;
+    }
+  return true;
 }
+static_assert(keys_apart(), "a key name belongs to a normal and a tangential law, or is a generic key");
+
+}  // namespace
 
 double contact_time(const NormalModel& model, double m_eff, double r_eff, double u) {
   return std::visit([&](const auto& n) { return n.collision_time(m_eff, r_eff, u); }, model);
@@ -23,52 +39,40 @@ double peak_overlap(const NormalModel& model, double m_eff, double r_eff, double
   return std::visit([&](const auto& n) { return n.peak_overlap(m_eff, r_eff, u); }, model);
 }
 
+std::string_view label_of(const NormalModel& model) {
+  return std::visit([](const auto& n) { return traits_of<std::decay_t<decltype(n)>>().label; }, model);
+}
+
+bool exact_whatever_dt(const NormalModel& model) {
+  return std::visit(
+      [](const auto& n) {
+        if constexpr (requires { n.exact_whatever_dt; }) return n.exact_whatever_dt;
+        else return false;
+      },
+      model);
+}
+
+std::string_view when_not_finite(const NormalModel& model) {
+  return std::visit(
+      [](const auto& n) -> std::string_view {
+        if constexpr (requires { n.when_not_finite; }) return n.when_not_finite;
+        else return "";
+      },
+      model);
+}
+
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {
-  const double e_star = effective_modulus(a, b);
-  const double nu = 0.5 * (a.poisson + b.poisson);
-  const double beta = damping_ratio(spec.restitution);
-  PairLaw law;
-  double tangential_damping = 1.0;  // eta_t / eta_n
-  if (spec.normal == "linear") {
-    law.normal = LinearDashpot{spec.stiffness, beta};
-  } else if (spec.normal == "hertz_tsuji") {
-    law.normal = HertzTsuji{e_star, HertzTsuji::alpha_of(spec.restitution)};
-  } else if (spec.normal == "hertz_sediment") {
-    law.normal = HertzSediment{e_star, spec.alpha, spec.tsuji_dashpot};
-    tangential_damping = 1.0 / std::sqrt(2.0 * (1.0 - nu));  // beta_t = alpha / sqrt(2(1-sigma))
-  } else if (spec.normal == "energy_conserving") {
-    law.normal = EnergyConserving{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
-  } else if (spec.normal == "energy_conserving_2005") {
-    law.normal = EnergyConserving2005{spec.stiffness, spec.restitution, beta, spec.characteristic_length};
-  } else if (spec.normal == "hooke_hysteresis") {
-    if (!(spec.max_stiffness_ratio > 1))
-      throw std::invalid_argument("hooke_hysteresis needs max_stiffness_ratio > 1");
-    law.normal = HookeHysteresis{e_star,
-                                 spec.characteristic_velocity,
-                                 spec.max_stiffness_ratio,
-                                 spec.adhesion_stiffness_ratio,
-                                 spec.plasticity_depth,
-                                 std::log(spec.restitution),
-                                 spec.no_tension};
-    tangential_damping = spec.tangential_damping ? 1.0 : 0.0;
-  } else {
-    throw std::invalid_argument("unknown normal model " + spec.normal);
-  }
-  if (spec.tangential == "none") {
-    law.tangential = NoFriction{};
-  } else if (spec.tangential == "linear_coulomb") {
-    const bool hh = spec.normal == "hooke_hysteresis";
-    // HH: k_t = k_n and gamma_t = gamma_n (or 0), as LIGGGHTS' tangential history.
-    const double kappa = spec.stiffness_ratio > 0 ? spec.stiffness_ratio : hh ? 1.0 : 2 * (1 - nu) / (2 - nu);
-    // eta_t = 2 beta sqrt(m* k_t) = sqrt(kappa) eta_n for the linear model.
-    const bool linear_spring = spec.normal == "linear" || spec.normal.rfind("energy_conserving", 0) == 0;
-    const double ratio = linear_spring ? std::sqrt(kappa) : tangential_damping;
-    law.tangential = LinearCoulomb{kappa, ratio, spec.friction, hh};
-  } else if (spec.tangential == "mindlin") {
-    law.tangential = MindlinSlip{spec.friction, nu, tangential_damping, spec.bound_whole_force};
-  } else {
-    throw std::invalid_argument("unknown tangential model " + spec.tangential);
-  }
+  const LawTraits* normal = find_law(kNormalLaws, spec.normal);
+  const LawTraits* tangential = find_law(kTangentialLaws, spec.tangential);
+  if (normal && tangential)
+    for (const auto& entry : spec.values)
+      if (!normal->key(entry.first) && !tangential->key(entry.first))
+        throw std::invalid_argument("the key " + entry.first + " is not one of normal = \"" + spec.normal +
+                                    "\" or tangential = \"" + spec.tangential + "\"");
+  const MaterialPair pair{a, b, spec.restitution, spec.friction};
+  PairLaw law{build_law<NormalModel>(spec.normal, pair, spec.values), NoFriction{}};
+  const NormalSide side = std::visit([&](const auto& n) { return normal_side(n, pair.poisson()); }, law.normal);
+  law.tangential = build_law<TangentialModel>(spec.tangential, pair, spec.values, side);
   return law;
 }
 
@@ -79,15 +83,9 @@ bool LawTable::corrects_positions() const {
 }
 
 std::string LawTable::without_rates() const {
-  for (const auto& l : laws) {
-    const char* name = std::visit(
-        [](const auto& m) -> const char* {
-          if constexpr (has_rates_v<std::decay_t<decltype(m)>>) return nullptr;
-          else return m.name;
-        },
-        l.normal);
-    if (name) return name;
-  }
+  for (const auto& l : laws)
+    if (!std::visit([](const auto& m) { return has_rates_v<std::decay_t<decltype(m)>>; }, l.normal))
+      return std::string(label_of(l.normal));
   return "";
 }
 

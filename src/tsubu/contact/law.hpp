@@ -1,12 +1,20 @@
 // The contact law of one material pair: a normal and a tangential model. The force loop
 // dispatches on the pair of variant alternatives once per loop when every pair uses the
 // same models (the common case), so the per-contact code is a direct, inlined call.
+//
+// The two variants are the registry of the laws: the loader, make_pair_law and the time
+// scales find a law by its traits (contact/law_traits.hpp) through them, so that a law is
+// registered by adding it here (docs/contact-laws.md).
 #pragma once
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "tsubu/contact/energy_conserving.hpp"
+#include "tsubu/contact/hooke_hysteresis.hpp"
+#include "tsubu/contact/law_traits.hpp"
 #include "tsubu/contact/normal_models.hpp"
 #include "tsubu/contact/tangential_models.hpp"
 #include "tsubu/world/domain.hpp"
@@ -16,6 +24,40 @@ namespace tsubu {
 using NormalModel =
     std::variant<LinearDashpot, HertzTsuji, HertzSediment, HookeHysteresis, EnergyConserving, EnergyConserving2005>;
 using TangentialModel = std::variant<NoFriction, LinearCoulomb, MindlinSlip>;
+
+// Their traits, in the variants' order (the order the scenario's messages list them in).
+inline constexpr auto kNormalLaws = traits_of_all<NormalModel>();
+inline constexpr auto kTangentialLaws = traits_of_all<TangentialModel>();
+
+// Models whose force is a smooth function of the kinematics, written on the number type:
+// they give exact rates (Hermite integration). Models P, F and HH are defined on fixed steps.
+template <class Normal>
+constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry& g, ContactHistory& h) { n.force(g, h); };
+
+// A law is well formed: checked at compile time for every registered law (law.cpp) and for
+// a law a test registers. A normal law's history slots are ContactHistory::normal[0..] and
+// keep on a swap, a tangential law's the spring xi, which is negated
+// (world/contact_list.hpp implements these swaps and no other); a law runs with block steps
+// exactly when its force has rates.
+template <class Law>
+constexpr bool well_formed_normal_law() {
+  constexpr LawTraits t = traits_of<Law>();
+  static_assert(t.history.size() <= std::size(ContactHistory{}.normal), "more history slots than ContactHistory::normal");
+  static_assert([] {
+    for (const HistorySlot& h : traits_of<Law>().history)
+      if (h.swap != Swap::keep) return false;
+    return true;
+  }(), "a normal history slot must keep on a swap (or be added to Contact::law_history)");
+  static_assert(t.allows("block_hermite") == has_rates_v<Law>, "block steps need rates: declare integrators = {kFixedSteps}");
+  return true;
+}
+template <class Law>
+constexpr bool well_formed_tangential_law() {
+  static_assert(traits_of<Law>().history.size() <= 1, "a tangential law's one history slot is the spring xi");
+  static_assert(traits_of<Law>().history.empty() || traits_of<Law>().history[0].swap == Swap::negate,
+                "the spring xi is negated on a swap");
+  return true;
+}
 
 struct PairLaw {
   NormalModel normal;
@@ -37,11 +79,6 @@ template <class Normal, class Tangential>
   const Vec3 ft = tangential.force(g, fn, h.xi);
   return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift};
 }
-
-// Models whose force is a smooth function of the kinematics, written on the number type:
-// they give exact rates (Hermite integration). Models P, F and HH are defined on fixed steps.
-template <class Normal>
-constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry& g, ContactHistory& h) { n.force(g, h); };
 
 // The same law run on Duals: the force on particle i and its tangential part, each with its
 // time derivative along the kinematics that `g` carries. The history is advanced as by
@@ -77,33 +114,50 @@ double contact_time(const NormalModel& model, double m_eff, double r_eff, double
 // loading line k_n), (15 m* u^2 / (16 E* sqrt(R*)))^(2/5) for Hertz.
 double peak_overlap(const NormalModel& model, double m_eff, double r_eff, double u);
 
-// What a scenario says about a material pair, before the materials are known.
+// Whether a collision at approach speed u lasts longer than t: the law's own test where it
+// has one that spares the collision time's cost (Hertz: no fifth root), else the comparison.
+template <class Normal>
+bool collision_longer_than(const Normal& normal, double m_eff, double r_eff, double u, double t) {
+  if constexpr (requires { normal.collision_longer_than(m_eff, r_eff, u, t); })
+    return normal.collision_longer_than(m_eff, r_eff, u, t);
+  else
+    return normal.collision_time(m_eff, r_eff, u) > t;
+}
+
+// The normal law's name in messages ("hertz_tsuji (T)").
+std::string_view label_of(const NormalModel& model);
+// Whether the law gives its restitution in a fixed number of steps whatever dt (models P and
+// F: `exact_whatever_dt`), so that a contact of few steps is no error of dt.
+bool exact_whatever_dt(const NormalModel& model);
+// What a non-finite force of the law means (`when_not_finite`), or "".
+std::string_view when_not_finite(const NormalModel& model);
+
+// What a scenario says about a material pair, before the materials are known: the laws by
+// name, the generic keys, and the values of the laws' own keys (those left out take their
+// defaults when the law is built).
 struct ContactSpec {
-  std::string normal = "hertz_tsuji";  // linear | hertz_tsuji | hertz_sediment | hooke_hysteresis | energy_conserving[_2005]
-  std::string tangential = "mindlin";  // none | linear_coulomb | mindlin
+  std::string normal = "hertz_tsuji";  // a name of kNormalLaws
+  std::string tangential = "mindlin";  // a name of kTangentialLaws
   double restitution = 1.0;            // e in (0, 1]
   double friction = 0.0;               // mu
-  double stiffness = 0.0;              // k_n for linear and energy_conserving[_2005], N/m
-  double characteristic_length = 0.0;  // d_c of energy_conserving[_2005], m (0: smaller diameter)
-  double alpha = 0.2;                  // dashpot constant of hertz_sediment
-  bool tsuji_dashpot = false;          // hertz_sediment: dashpot = "tsuji" (false: "constant", Eq. 14 as printed)
-  double stiffness_ratio = 0.0;        // k_t/k_n for linear_coulomb (0: 2(1-nu)/(2-nu); 1 with HH)
-  bool bound_whole_force = false;      // mindlin: friction_bound = "total" (false: "spring", as printed)
-  // hooke_hysteresis only:
-  double characteristic_velocity = 0;  // v_c, m/s
-  double max_stiffness_ratio = 0;      // k2max/k_n, > 1
-  double adhesion_stiffness_ratio = 0; // k_c/k_n
-  double plasticity_depth = 0;         // phi_f
-  bool no_tension = false;             // clamp F_n >= 0
-  bool tangential_damping = true;      // gamma_t = gamma_n (false: 0)
+  LawValues values;                    // the two laws' keys: "stiffness", "alpha", ...
 };
 
-// Effective moduli of two materials (spec notation): E* and G*.
-double effective_modulus(const Material& a, const Material& b);
-double effective_shear_modulus(const Material& a, const Material& b);
+// The law of `Variant` named `name`, built from its keys' values and the pair; `side` is what
+// a tangential law takes of the normal one. Throws std::invalid_argument for a name the
+// variant lacks, and for a value out of its key's range or a required key not given.
+template <class Variant, class... Side>
+Variant build_law(std::string_view name, const MaterialPair& pair, const LawValues& values, const Side&... side) {
+  std::optional<Variant> law;
+  for_each_law<Variant>([&]<class Law>(std::type_identity<Law>) {
+    if (!law && Law::name == name) law = Law::build(LawInput(pair, values, traits_of<Law>()), side...);
+  });
+  if (!law) throw std::invalid_argument("no law is named \"" + std::string(name) + "\"");
+  return *std::move(law);
+}
 
 // Builds the law for materials a and b. Throws std::invalid_argument for combinations that
-// the scenario validator should have refused.
+// the scenario validator should have refused, and for a value of a key that neither law has.
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b);
 
 // The table of laws indexed [a * n + b] for n materials.
@@ -115,7 +169,7 @@ struct LawTable {
   bool uniform() const;
   // True when some law's normal model corrects positions (models P, F).
   bool corrects_positions() const;
-  // The name of a normal model in the table that has no rates (block steps cannot run it),
+  // The label of a normal model in the table that has no rates (block steps cannot run it),
   // or "" when every law has them.
   std::string without_rates() const;
 };

@@ -1,9 +1,13 @@
 // Tangential contact models (docs/engine.md, "Tangential models"). Each returns the
 // tangential force on particle i and updates the spring `xi` kept in the contact history.
+// Their traits (contact/law_traits.hpp) stand beside them; their builders take what they
+// need of the pair's normal law as a NormalSide.
 #pragma once
+#include <array>
 #include <cmath>
 
 #include "tsubu/contact/geometry.hpp"
+#include "tsubu/contact/law_traits.hpp"
 
 namespace tsubu {
 
@@ -30,8 +34,13 @@ inline void advance_with_rate(DualVec3& xi, const DualContactGeometry& g) {
 }
 inline void advance_spring(DualVec3& xi, const DualContactGeometry& g) { advance_with_rate<advance_spring>(xi, g); }
 
+// The history of the tangential laws with a spring.
+inline constexpr std::array kSpringHistory = {HistorySlot{"the tangential spring xi", Swap::negate}};
+
 // Frictionless.
 struct NoFriction {
+  static constexpr std::string_view name = "none";
+  static NoFriction build(const LawInput&, const NormalSide&) { return {}; }
   static constexpr double dashpot_ratio() { return 0; }  // eta_t / eta_n
   template <class G, class F, class V>
   V force(const G&, const F&, V&) const { return {}; }
@@ -53,10 +62,22 @@ inline void advance_spring_projected(DualVec3& xi, const DualContactGeometry& g)
 // the new plane keeping its length (advance_spring), true is LIGGGHTS' projection
 // (advance_spring_projected; used with model HH for step-for-step agreement).
 struct LinearCoulomb {
+  static constexpr std::string_view name = "linear_coulomb";
+  static constexpr std::array keys = {  // kappa: 0 (the default) stands for the normal law's
+      law_key::number("stiffness_ratio", KeyKind::positive, 0, "the tangential stiffness ratio k_t/k_n")};
+  static constexpr auto history = kSpringHistory;
   double stiffness_ratio = 1;  // k_t / k_n (kappa)
   double damping_ratio = 1;    // eta_t / eta_n
   double mu = 0;               // friction coefficient
   bool projected = false;
+
+  static LinearCoulomb build(const LawInput& in, const NormalSide& normal) {
+    const double given = in.number("stiffness_ratio");
+    const double kappa = given > 0 ? given : normal.stiffness_ratio;
+    // A linear normal spring: eta_t = 2 beta sqrt(m* k_t) = sqrt(kappa) eta_n.
+    const double ratio = normal.linear_spring ? std::sqrt(kappa) : normal.dashpot_ratio;
+    return {kappa, ratio, in.friction, normal.projected_spring};
+  }
   // eta_t / eta_n for the block steps' dashpot correction (ForceField::dashpot_response),
   // which takes the sticking contact's dashpot also while the contact slides.
   double dashpot_ratio() const { return damping_ratio; }
@@ -89,10 +110,18 @@ struct LinearCoulomb {
 // bounded, the whole force F_t is scaled back to mu |f_c^n| where it exceeds it (the spring
 // keeps its stretch, which is already capped at xi_max).
 struct MindlinSlip {
+  static constexpr std::string_view name = "mindlin";
+  static constexpr std::array keys = {law_key::choice(
+      "friction_bound", {"spring", "total"}, "what Eq. 10 bounds: the spring's force (as printed) or the total")};
+  static constexpr auto history = kSpringHistory;
   double mu = 0;
   double sigma = 0;          // Poisson's ratio of the pair
   double damping_ratio = 1;  // eta_t / eta_n
   bool bound_whole_force = false;
+
+  static MindlinSlip build(const LawInput& in, const NormalSide& normal) {
+    return {in.friction, in.poisson(), normal.dashpot_ratio, in.is("friction_bound", "total")};
+  }
   double dashpot_ratio() const { return damping_ratio; }
 
   template <class G, class V = Vector<typename G::Number>>

@@ -416,22 +416,21 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
   scan(world.contacts.walls(), wall_results_, true);
   std::ostringstream msg;
   msg << "step " << world.step << ", t = " << world.time << " s: ";
-  std::string model;  // the normal model of the worst contact
+  std::string model;      // the normal model of the worst contact
+  std::string_view hint;  // what a non-finite force of it means
   if (worst) {
     const std::size_t a = worst->i, b = worst->j;
     const int mat_b = wall ? world.walls[b].material : p.material[b];
-    model = std::visit([](const auto& m) { return std::string(m.name); }, model_->laws.at(p.material[a], mat_b).normal);
+    const NormalModel& normal = model_->laws.at(p.material[a], mat_b).normal;
+    model = label_of(normal);
+    hint = when_not_finite(normal);
     msg << "contact between particle id " << p.id[a] << " and "
         << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model " << model
         << ") has overlap/diameter " << ratio;
   } else {
     msg << "a particle force is not finite";
   }
-  if (!std::isfinite(ratio) && model == EnergyConserving2005::name)
-    msg << " (a non-finite force: for energy_conserving_2005 this means the contact left the reconstructed"
-           " model's range, (a+1) e^2 u^2 < a d^2: raise e or lower k_n dt^2/m*)";
-  else if (!std::isfinite(ratio))
-    msg << " (a non-finite force)";
+  if (!std::isfinite(ratio)) msg << " (a non-finite force" << (hint.empty() ? "" : ": ") << hint << ")";
   msg << " (limit " << model_->overlap_limit << ", simulation.overlap_limit); ";
   // Before the first step the cause is the input, whatever dt is.
   if (world.step == 0)

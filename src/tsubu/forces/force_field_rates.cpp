@@ -29,11 +29,11 @@ double contact_step(const Normal& normal, const ContactStepRules& rules, double 
   const auto impact = [&] { return rules.kappa_c * normal.collision_time(m_eff, r_eff, u); };
   if (!touching) {
     const double closing = rules.eta_gap * time_to_close(gap, v_approach, a_approach);
-    return normal.collision_longer_than(m_eff, r_eff, u, closing / rules.kappa_c) ? impact() : closing;
+    return collision_longer_than(normal, m_eff, r_eff, u, closing / rules.kappa_c) ? impact() : closing;
   }
   if (!(now->stiffness > 0)) return impact();
   const double spring = rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness);
-  return normal.collision_longer_than(m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
+  return collision_longer_than(normal, m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
 }
 
 // The law's models, for a law with rates (compute_active refuses a table with another).

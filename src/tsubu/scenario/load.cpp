@@ -11,6 +11,7 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
 #include "tsubu/core/hash.hpp"
+#include "tsubu/scenario/law_keys.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -197,80 +198,9 @@ void read_material(Section s, Scenario& sc) {
   sc.materials.push_back(m);
 }
 
-ContactSpec read_contact_spec(Section& s, Integrator integrator) {
-  ContactSpec c;
-  c.normal = s.choice("normal",
-                      {"linear", "hertz_tsuji", "hertz_sediment", "hooke_hysteresis", "energy_conserving",
-                       "energy_conserving_2005"},
-                      "hertz_tsuji");
-  const bool hh = c.normal == "hooke_hysteresis";
-  const bool linear_spring = c.normal == "linear" || c.normal.rfind("energy_conserving", 0) == 0;
-  const bool energy_model = c.normal.rfind("energy_conserving", 0) == 0;
-  if (integrator == Integrator::block_hermite && (energy_model || hh))
-    s.fail("normal", "model \"" + c.normal +
-                         "\" is defined on fixed time steps (its history or position correction assumes one global dt)"
-                         " and cannot run with simulation.integrator = \"block_hermite\"; allowed with it: \"linear\","
-                         " \"hertz_tsuji\", \"hertz_sediment\"");
-  if (energy_model && integrator != Integrator::symplectic_euler)
-    s.fail("normal", "model \"" + c.normal +
-                         "\" is built on the symplectic Euler scheme and needs simulation.integrator = \"symplectic_euler\"");
-  c.tangential = s.choice("tangential", {"none", "linear_coulomb", "mindlin"}, hh ? "linear_coulomb" : "mindlin");
-  c.restitution = s.real("restitution", 1.0);
-  if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1]" + got(c.restitution));
-  c.friction = s.real("friction", 0.0);
-  if (c.friction < 0) s.fail("friction", "must be >= 0" + got(c.friction));
-  // Keys of one model only: refused by name with the other models rather than as unknown.
-  if (linear_spring) {
-    if (!s.has("stiffness"))
-      s.fail("stiffness", "is required with normal = \"" + c.normal + "\": the spring constant k_n in N/m");
-    c.stiffness = s.positive("stiffness");
-  } else if (s.has("stiffness")) {
-    s.fail("stiffness", "is used only with normal = \"linear\", \"energy_conserving\" or \"energy_conserving_2005\"");
-  }
-  if (energy_model) c.characteristic_length = s.positive("characteristic_length", 0.0);
-  else if (s.has("characteristic_length"))
-    s.fail("characteristic_length", "is used only with normal = \"energy_conserving\" or \"energy_conserving_2005\"");
-  if (c.normal == "hertz_sediment") {
-    c.alpha = s.positive("alpha", 0.2);
-    c.tsuji_dashpot = s.choice("dashpot", {"constant", "tsuji"}, "constant") == "tsuji";
-  } else {
-    for (const char* key : {"alpha", "dashpot"})
-      if (s.has(key)) s.fail(key, "is used only with normal = \"hertz_sediment\"");
-  }
-  if (c.tangential == "linear_coulomb") c.stiffness_ratio = s.positive("stiffness_ratio", 0.0);
-  else if (s.has("stiffness_ratio")) s.fail("stiffness_ratio", "is used only with tangential = \"linear_coulomb\"");
-  if (c.tangential == "mindlin") c.bound_whole_force = s.choice("friction_bound", {"spring", "total"}, "spring") == "total";
-  else if (s.has("friction_bound")) s.fail("friction_bound", "is used only with tangential = \"mindlin\"");
-  static constexpr const char* hh_keys[] = {"characteristic_velocity", "max_stiffness_ratio", "adhesion_stiffness_ratio",
-                                            "plasticity_depth", "no_tension", "tangential_damping"};
-  if (hh) {
-    if (!s.has("characteristic_velocity"))
-      s.fail("characteristic_velocity", "is required with normal = \"hooke_hysteresis\": the velocity v_c in m/s that sets k_n");
-    c.characteristic_velocity = s.positive("characteristic_velocity");
-    if (!s.has("max_stiffness_ratio"))
-      s.fail("max_stiffness_ratio", "is required with normal = \"hooke_hysteresis\": k2max/k_n, a number > 1");
-    c.max_stiffness_ratio = s.real("max_stiffness_ratio");
-    if (!(c.max_stiffness_ratio > 1))
-      s.fail("max_stiffness_ratio", "is k2max/k_n and must be > 1 (the unloading stiffness k2 grows from k_n up to k2max)" +
-                                        got(c.max_stiffness_ratio));
-    c.adhesion_stiffness_ratio = s.real("adhesion_stiffness_ratio", 0.0);
-    if (!(c.adhesion_stiffness_ratio >= 0))
-      s.fail("adhesion_stiffness_ratio", "is k_c/k_n and must be >= 0" + got(c.adhesion_stiffness_ratio));
-    if (!s.has("plasticity_depth"))
-      s.fail("plasticity_depth", "is required with normal = \"hooke_hysteresis\": phi_f, a fraction of 2R* (> 0)");
-    c.plasticity_depth = s.positive("plasticity_depth");
-    c.no_tension = s.flag("no_tension", false);
-    c.tangential_damping = s.flag("tangential_damping", true);
-  } else {
-    for (const char* key : hh_keys)
-      if (s.has(key)) s.fail(key, "is used only with normal = \"hooke_hysteresis\"");
-  }
-  return c;
-}
-
 void read_contact(Section s, Scenario& sc) {
   if (auto d = s.table("default")) {
-    sc.default_contact = read_contact_spec(*d, sc.integrator);
+    sc.default_contact = read_contact_spec(*d, integrator_name(sc.integrator));
     d->finish();
   }
   for (Section p : s.tables("pairs")) {
@@ -282,7 +212,7 @@ void read_contact(Section s, Scenario& sc) {
     for (const auto& other : sc.pair_contacts)
       if ((other.a == pc.a && other.b == pc.b) || (other.a == pc.b && other.b == pc.a))
         p.fail("materials", "the pair \"" + names[0] + "\", \"" + names[1] + "\" has two [[contact.pairs]] entries");
-    pc.spec = read_contact_spec(p, sc.integrator);
+    pc.spec = read_contact_spec(p, integrator_name(sc.integrator));
     p.finish();
     sc.pair_contacts.push_back(pc);
   }

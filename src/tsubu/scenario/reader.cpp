@@ -149,12 +149,18 @@ std::string Section::text(std::string_view key, const std::string& fallback) { r
 
 std::string Section::choice(std::string_view key, std::initializer_list<const char*> allowed,
                             std::optional<std::string> fallback) {
+  const std::vector<std::string_view> words(allowed.begin(), allowed.end());
+  return choice(key, std::span<const std::string_view>(words), std::move(fallback));
+}
+
+std::string Section::choice(std::string_view key, std::span<const std::string_view> allowed,
+                            std::optional<std::string> fallback) {
   if (!has(key) && fallback) return *fallback;
   const std::string v = text(key);
-  for (const char* a : allowed)
+  for (std::string_view a : allowed)
     if (v == a) return v;
   std::string list;
-  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string("\"") + a + "\"";
+  for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string("\"") + std::string(a) + "\"";
   fail(key, "\"" + v + "\" is not allowed; allowed: " + list);
 }
 

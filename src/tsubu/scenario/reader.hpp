@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@ class Section {
   std::string text(std::string_view key);  // required
   std::string text(std::string_view key, const std::string& fallback);
   std::string choice(std::string_view key, std::initializer_list<const char*> allowed, std::optional<std::string> fallback);
+  std::string choice(std::string_view key, std::span<const std::string_view> allowed, std::optional<std::string> fallback);
   Vec3 vec3(std::string_view key);
   Vec3 vec3(std::string_view key, const Vec3& fallback);
   std::vector<double> reals(std::string_view key);  // array of numbers

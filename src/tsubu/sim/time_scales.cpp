@@ -22,16 +22,6 @@ std::string fmt(double v) {
 
 double sphere_mass(double rho, double d) { return rho * M_PI * d * d * d / 6; }
 
-const char* model_name(const NormalModel& model) {
-  return std::visit([](const auto& n) { return std::decay_t<decltype(n)>::name; }, model);
-}
-
-// Models P and F give the exact restitution in three steps whatever dt: a long contact is
-// not an error for them.
-bool exact_whatever_dt(const NormalModel& model) {
-  return std::holds_alternative<EnergyConserving>(model) || std::holds_alternative<EnergyConserving2005>(model);
-}
-
 // The smallest and the largest grain of each material: those present and, for an inflow
 // source, the bounds of its size distribution.
 std::vector<GrainTimes> grain_sizes(const Scenario& sc, const World& w) {
@@ -97,11 +87,11 @@ void shortest_contact(const Scenario& sc, const World& w, const LawTable& laws, 
     const double t = contact_time(law.normal, m_eff, r_eff, ts.impact_speed);
     if (t < ts.shortest_contact) {
       ts.shortest_contact = t;
-      ts.shortest_contact_what = what + ", " + model_name(law.normal);
+      ts.shortest_contact_what = what + ", " + std::string(label_of(law.normal));
       ts.contact_resolution_matters = !exact_whatever_dt(law.normal);
     }
     const double overlap = peak_overlap(law.normal, m_eff, r_eff, ts.impact_speed) / d_small;
-    if (overlap > ts.deepest_overlap) ts.deepest_overlap = overlap, ts.deepest_overlap_what = what + ", " + model_name(law.normal);
+    if (overlap > ts.deepest_overlap) ts.deepest_overlap = overlap, ts.deepest_overlap_what = what + ", " + std::string(label_of(law.normal));
   };
   auto name = [&](const GrainTimes& x) { return fmt(x.diameter) + " m " + sc.materials[x.material].name; };
   for (std::size_t a = 0; a < ts.grains.size(); ++a) {
