@@ -4,6 +4,8 @@
 // force and torque at the positions and time the step has reached (Simulation::evaluate:
 // the sort schedule, then ForceField::compute; fluid_lead as ForceField::compute takes it).
 #pragma once
+#include <array>
+
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -12,7 +14,7 @@ namespace tsubu {
 enum class Integrator { symplectic_euler, velocity_verlet, block_hermite };
 
 // The scenario's name of an integrator (simulation.integrator).
-inline const char* integrator_name(Integrator i) {
+constexpr const char* integrator_name(Integrator i) {
   switch (i) {
     case Integrator::symplectic_euler: return "symplectic_euler";
     case Integrator::velocity_verlet: return "velocity_verlet";
@@ -20,6 +22,8 @@ inline const char* integrator_name(Integrator i) {
   }
   return "";
 }
+// Every integrator, the default (velocity Verlet) first.
+inline constexpr std::array kIntegrators = {Integrator::velocity_verlet, Integrator::symplectic_euler, Integrator::block_hermite};
 
 // The phases of a fixed step. Forces are divided by the translational mass (mass plus the
 // fluid's added mass).

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "tsubu/core/format.hpp"
+#include "tsubu/integrate/integrators.hpp"
 
 namespace tsubu {
 
@@ -36,6 +37,21 @@ const LawTraits& chosen_law(Section& s, std::string_view role, std::span<const L
   const std::vector<std::string_view> names = names_of(laws);
   return *find_law(laws, s.choice(role, std::span<const std::string_view>(names), default_name));
 }
+
+// Every integrator a law's traits name is one simulation.integrator knows: a misspelt name
+// in a rule would otherwise refuse that integrator for the law without a word.
+constexpr bool names_integrators(std::span<const LawTraits> laws) {
+  for (const LawTraits& law : laws)
+    for (const IntegratorRule& rule : law.integrators)
+      for (std::string_view name : rule.allowed) {
+        bool known = name.empty();
+        for (Integrator i : kIntegrators) known = known || name == integrator_name(i);
+        if (!known) return false;
+      }
+  return true;
+}
+static_assert(names_integrators(kNormalLaws) && names_integrators(kTangentialLaws),
+              "a law's IntegratorRule names an integrator that integrator_name() does not give");
 
 // Refuses an integrator the law does not allow, with the reason of its first rule that
 // refuses it: what it needs where the rule allows one integrator, else the laws of `laws`

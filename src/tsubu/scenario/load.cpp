@@ -1,6 +1,7 @@
 // Scenario loading: TOML -> checked plain structs. Keys are documented in docs/scenario.md;
 // keep the two in step.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -148,10 +149,11 @@ void read_simulation(Section s, Scenario& sc) {
   // Step numbers are 64-bit integers and times step * dt: beyond 2^53 steps neither is exact.
   if (!(sc.duration / sc.dt <= 0x1p53))
     s.fail("dt", "gives " + num(sc.duration / sc.dt) + " steps over simulation.duration; at most 2^53 (9e15) are allowed (dt is in seconds)" + got(sc.dt));
-  const std::string integrator = s.choice("integrator", {"velocity_verlet", "symplectic_euler", "block_hermite"}, "velocity_verlet");
-  sc.integrator = integrator == "symplectic_euler" ? Integrator::symplectic_euler
-                  : integrator == "block_hermite"  ? Integrator::block_hermite
-                                                   : Integrator::velocity_verlet;
+  std::array<std::string_view, kIntegrators.size()> integrators;
+  for (std::size_t k = 0; k < integrators.size(); ++k) integrators[k] = integrator_name(kIntegrators[k]);
+  const std::string integrator = s.choice("integrator", integrators, std::string(integrators[0]));
+  sc.integrator = kIntegrators[static_cast<std::size_t>(
+      std::find(integrators.begin(), integrators.end(), integrator) - integrators.begin())];
   if (auto b = s.table("block_steps")) {
     if (sc.integrator != Integrator::block_hermite)
       b->fail("levels", "[simulation.block_steps] is read only with simulation.integrator = \"block_hermite\"");
