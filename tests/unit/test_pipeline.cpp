@@ -11,12 +11,17 @@ namespace tsubu {
 namespace {
 
 // A bed being poured onto the floor (grains in contact with each other and with the floor,
-// others still falling), without a fluid.
-void expect_same_evaluations(const std::vector<std::string>& law) {
+// others still falling), without a fluid; `edit` changes the scenario before the run.
+void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(Scenario&) = nullptr) {
   std::vector<std::string> overrides = {"simulation.duration=0.06", "search.sort_every=0"};
   overrides.insert(overrides.end(), law.begin(), law.end());
-  const World bed = testing::run_test_scenario("settle_mono.toml", overrides);
-  const Model model = build_model(testing::test_scenario("settle_mono.toml", overrides));
+  Scenario sc = testing::test_scenario("settle_mono.toml", overrides);
+  if (edit) edit(sc);
+  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+  sim.start();
+  sim.advance_to(std::llround(sc.duration / sc.dt));
+  const World bed = sim.world();
+  const Model model = build_model(sc);
   const std::size_t n = bed.particles.size();
 
   // Each particle predicted one step dt ahead, with an acceleration and a spin rate of its own.
@@ -53,6 +58,9 @@ void expect_same_evaluations(const std::vector<std::string>& law) {
   ASSERT_EQ(fixed.contacts.pairs().size(), block.contacts.pairs().size());
   const ContactTotals totals = fixed_field.totals(fixed);
   ASSERT_GT(totals.contacts, n / 8) << "a bed with contacts";
+  std::size_t on_floor = 0;
+  for (const Contact& c : fixed.contacts.walls()) on_floor += c.touching;
+  ASSERT_GT(on_floor, 0u) << "grains on the floor";
   EXPECT_EQ(totals.contacts, block_field.totals(block).contacts);
   EXPECT_TRUE(testing::same_bits(fixed.particles.force, block.particles.force));
   EXPECT_TRUE(testing::same_bits(fixed.particles.torque, block.particles.torque));
@@ -74,6 +82,19 @@ TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsHertzTsuji) { expect_s
 
 TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsHertzSediment) {
   expect_same_evaluations({"contact.default.normal=\"hertz_sediment\"", "contact.default.friction_bound=\"total\""});
+}
+
+// A table of mixed model types: the floor is steel, with model H between glass and steel,
+// the grains keep model T. Pairs and walls are evaluated each with its own law.
+TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsMixedLaws) {
+  expect_same_evaluations({}, [](Scenario& sc) {
+    sc.materials.push_back({"steel", 7800, 2e7, 0.28});
+    for (Wall& w : sc.walls) w.material = 1;
+    ContactSpec glass_steel;
+    glass_steel.normal = "hertz_sediment";
+    glass_steel.friction = 0.5;
+    sc.pair_contacts.push_back({0, 1, glass_steel});
+  });
 }
 
 // A law defined on fixed steps only (here model P) cannot be evaluated for block steps: an

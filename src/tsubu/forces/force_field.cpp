@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
-#include "tsubu/contact/pair_geometry.hpp"
 #include "tsubu/core/parallel.hpp"
+#include "tsubu/forces/evaluate.hpp"
 #include "tsubu/forces/gather.hpp"
 
 namespace tsubu {
@@ -36,49 +36,6 @@ void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel 
     });
   }
 }
-
-// What the laws see of touching pair (i, j) with separation d = x_i - x_j, now.
-ContactGeometry pair_geometry(const Particles& p, std::size_t i, std::size_t j, const Vec3& d) {
-  return pair_geometry<double>(p.radius[i], p.radius[j], p.mass[i], p.mass[j], d, p.velocity[i], p.velocity[j],
-                               p.omega[i], p.omega[j]);
-}
-
-// A block of touching pairs held as one array per scalar ("lanes"), so that the loop over
-// the block's laws is a vector loop: each iteration reads and writes its own lane only.
-template <std::size_t N>
-struct Lanes {
-  double n[3][N], delta[N], v_n[N], v_t[3][N], r_eff[N], m_eff[N], d_mean[N], d_small[N];  // ContactGeometry
-  double xi[3][N], normal[2][N];                                                          // ContactHistory
-  double total[3][N], tangential[3][N], energy[N], gap_shift[N];                          // ContactForce
-
-  static Vec3 get(const double (&a)[3][N], std::size_t b) { return {a[0][b], a[1][b], a[2][b]}; }
-  static void put(double (&a)[3][N], std::size_t b, const Vec3& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
-
-  void set_geometry(std::size_t b, const ContactGeometry& g) {
-    put(n, b, g.n), put(v_t, b, g.v_t);
-    delta[b] = g.delta, v_n[b] = g.v_n, r_eff[b] = g.r_eff, m_eff[b] = g.m_eff, d_mean[b] = g.d_mean, d_small[b] = g.d_small;
-  }
-  ContactGeometry geometry(std::size_t b, double dt) const {
-    return {get(n, b), delta[b], v_n[b], get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt};
-  }
-  void set_history(std::size_t b, const ContactHistory& h) { put(xi, b, h.xi), normal[0][b] = h.normal[0], normal[1][b] = h.normal[1]; }
-  ContactHistory history(std::size_t b) const { return {get(xi, b), {normal[0][b], normal[1][b]}}; }
-  void set_force(std::size_t b, const ContactForce& f) {
-    put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy, gap_shift[b] = f.gap_shift;
-  }
-  // The law of every lane: a vector loop.
-  template <class Normal, class Tangential>
-  void evaluate_all(std::size_t m, double dt, const Normal& normal_model, const Tangential& tangential_model) {
-#pragma omp simd
-    for (std::size_t b = 0; b < m; ++b) evaluate_one(b, dt, normal_model, tangential_model);
-  }
-  template <class Normal, class Tangential>
-  [[gnu::always_inline]] void evaluate_one(std::size_t b, double dt, const Normal& normal_model, const Tangential& tangential_model) {
-    ContactHistory h = history(b);
-    set_force(b, evaluate(normal_model, tangential_model, geometry(b, dt), h));
-    set_history(b, h);
-  }
-};
 
 }  // namespace
 
@@ -200,7 +157,7 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
   for_each_range(probe.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Centres in front of the plane (see evaluate_walls) and within the margin of touching.
+        // Centres in front of the plane (see evaluate_wall) and within the margin of touching.
         const double dist = world.walls[w].distance(probe.position[i]);
         if (dist < probe.radius[i] + margin && dist > -margin)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
@@ -216,98 +173,26 @@ void ForceField::evaluate_pairs(World& world) {
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
   const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
   const int threads = threads_for(contacts.size());
-  const bool uniform = model_->laws.uniform();
+  const PairLaw* shared = model_->laws.uniform() ? &model_->laws.laws.front() : nullptr;
+  const CurrentState state{world.particles, world.dt};
   for_each_thread(threads, [&](int t) {
     const auto [first, last] = static_range(blocks, t, threads);
     for (std::size_t block = first; block < last; ++block)
-      evaluate_pair_block(world, block * kBlock, std::min((block + 1) * kBlock, contacts.size()), uniform);
+      evaluate_pair_block(world, state, ListRange{block * kBlock, std::min((block + 1) * kBlock, contacts.size())}, shared,
+                          nullptr);
   });
-}
-
-void ForceField::evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform) {
-  const Particles& p = world.particles;
-  auto& contacts = world.contacts.pairs();
-  // Scalar pass, without a branch on touching (it is unpredictable): every entry's result is
-  // cleared and its history kept only if it touches; the touching ones are listed.
-  std::uint32_t touching[kBlock];
-  Vec3 separation[kBlock];
-  std::size_t m = 0;
-  for (std::size_t k = begin; k < end; ++k) {
-    Contact& c = contacts[k];
-    const Vec3 d = world.domain.separation(p.position[c.i], p.position[c.j]);
-    const double reach = p.radius[c.i] + p.radius[c.j];
-    c.touching = norm2(d) < reach * reach;
-    const double keep = c.touching;
-    c.history.xi *= keep;
-    c.history.normal[0] *= keep, c.history.normal[1] *= keep;
-    pair_results_.set(k, {}, {}, 0, 0);
-    touching[m] = static_cast<std::uint32_t>(k);
-    separation[m] = d;
-    m += c.touching;
-  }
-  if (shifts_)
-    for (std::size_t k = begin; k < end; ++k) pair_results_.shift_i[k] = pair_results_.shift_j[k] = {};
-  // The touching pairs' geometry and history (as the laws see it, from i) go into lanes.
-  Lanes<kBlock> lanes;
-  for (std::size_t b = 0; b < m; ++b) {
-    const Contact& c = contacts[touching[b]];
-    lanes.set_geometry(b, pair_geometry(p, c.i, c.j, separation[b]));
-    lanes.set_history(b, c.law_history(p));
-  }
-  const double dt = world.dt;
-  if (uniform) {
-    std::visit([&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, dt, normal, tangential); },
-               model_->laws.laws.front().normal, model_->laws.laws.front().tangential);
-  } else {
-    for (std::size_t b = 0; b < m; ++b) {
-      const Contact& c = contacts[touching[b]];
-      const PairLaw& law = model_->laws.at(p.material[c.i], p.material[c.j]);
-      std::visit([&](const auto& nm, const auto& tm) { lanes.evaluate_one(b, dt, nm, tm); }, law.normal, law.tangential);
-    }
-  }
-  for (std::size_t b = 0; b < m; ++b) {
-    const std::size_t k = touching[b];
-    Contact& c = contacts[k];
-    c.set_law_history(p, lanes.history(b));
-    const double delta = lanes.delta[b];
-    const Vec3 n = lanes.get(lanes.n, b);
-    pair_results_.set(k, lanes.get(lanes.total, b), cross(n, lanes.get(lanes.tangential, b)), delta, lanes.energy[b]);
-    if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
-      const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
-      pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
-      pair_results_.shift_j[k] = (-shift / p.mass[c.j]) * n;
-    }
-  }
 }
 
 void ForceField::evaluate_walls(World& world) {
   const Particles& p = world.particles;
-  auto& contacts = world.contacts.walls();
+  const auto& contacts = world.contacts.walls();
   wall_results_.resize(contacts.size(), shifts_);
-  const double dt = world.dt;
+  const CurrentState state{p, world.dt};
   auto law_of = [&](std::size_t k) -> const PairLaw& {
     return model_->laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
   };
   for_each_contact(model_->laws, contacts.size(), law_of, [&](std::size_t k, const auto& normal, const auto& tangential) {
-    Contact& c = contacts[k];
-    const std::size_t i = c.i;
-    const Wall& wall = world.walls[c.j];
-    const double ri = p.radius[i];
-    const double dist = wall.distance(p.position[i]);
-    // Touching from the front side only: a centre behind the plane has tunnelled through
-    // and feels no force from it.
-    c.touching = dist < ri && dist > 0;
-    if (!c.touching) {
-      c.history = {};
-      wall_results_.set(k, {}, {}, 0, 0);
-      if (shifts_) wall_results_.shift_i[k] = {};
-      return;
-    }
-    ContactGeometry g = wall_geometry<double>(ri, p.mass[i], wall.normal, dist, p.velocity[i] - wall.velocity, p.omega[i]);
-    g.dt = dt;
-    const ContactForce f = evaluate(normal, tangential, g, c.history);
-    wall_results_.set(k, f.total, cross(g.n, f.tangential), g.delta, f.energy);
-    if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
+    evaluate_wall(world, state, k, normal, tangential, nullptr);
   });
 }
 

@@ -75,12 +75,13 @@ class ForceField {
   // are then second order in dt; at the half-step velocity they are first order).
   void compute(World& world, double fluid_lead = 0);
 
-  // Block steps (the same lists, laws and gather): evaluates the active particles at the
-  // predictor's time from the predicted state of every particle they touch, with the exact
-  // rates of every force and torque: gravity and contacts; the fluid's forces are left to
-  // the integrator (they depend on the corrected velocity). A contact is evaluated once, from its first active
-  // particle; its history advances by the time since the later of its particles' last
-  // evaluations (their shared step). The lists are the stepper's to rebuild (rebuild_at).
+  // Block steps (the same lists, contact evaluation and gather, run on dual numbers):
+  // evaluates the active particles at the predictor's time from the predicted state of every
+  // particle they touch, with the exact rates of every force and torque: gravity and
+  // contacts; the fluid's forces are left to the integrator (they depend on the corrected
+  // velocity). A contact is evaluated once, from its first active particle; its history
+  // advances by the time since the later of its particles' last evaluations (their shared
+  // step). The lists are the stepper's to rebuild (rebuild_at).
   // Throws std::invalid_argument when a law has no rates (LawTable::without_rates).
   void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                       const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out);
@@ -167,7 +168,8 @@ class ForceField {
     // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
     Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * entry[k].delta) * entry[k].n_x_ft; }
   };
-  // Rates of the block-step evaluations, per contact (the results' companions).
+  // Rates of the block-step evaluations, per contact (the results' companions), filled by
+  // the evaluation's rate channel.
   struct Rates {
     Vec3 force_i, n_x_ft;  // d/dt of Results::Entry's force_i and n_x_ft
     double delta = 0;      // d(overlap)/dt
@@ -198,17 +200,21 @@ class ForceField {
   void find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out);
   // The crowd list from the same probe (each ball's reach added to the probe radii).
   void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);
-  template <class Normal, class Tangential>
-  void evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
-                           const Normal& normal, const Tangential& tangential);
-  template <class Normal, class Tangential>
-  void evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
-                           const Normal& normal, const Tangential& tangential);
-  // Pair contacts go in blocks of kBlock list entries (see evaluate_pair_block).
+  // The one contact evaluation (forces/evaluate.hpp), on the number type of `State`: a fixed
+  // step on double (CurrentState: the particles' arrays), a block step on Dual
+  // (PredictedState: the predictor's kinematics), where the rate channel also fills the
+  // Rates under `rules` (null for fixed steps). Pairs go in blocks of at most kBlock list
+  // entries, evaluated with `shared` when the caller has one law for all, else each with its
+  // own; walls one at a time, with their law.
   static constexpr std::size_t kBlock = 32;
+  template <class State, class Entries>
+  void evaluate_pair_block(World& world, const State& state, const Entries& entries, const PairLaw* shared,
+                           const ContactStepRules* rules);
+  template <class State, class Normal, class Tangential>
+  void evaluate_wall(World& world, const State& state, std::size_t k, const Normal& normal, const Tangential& tangential,
+                     const ContactStepRules* rules);
+  // Fixed steps: every listed pair and wall.
   void evaluate_pairs(World& world);
-  // uniform: every material pair has the same model types (LawTable::uniform()).
-  void evaluate_pair_block(World& world, std::size_t begin, std::size_t end, bool uniform);
   void evaluate_walls(World& world);
   void accumulate(World& world, double fluid_lead);
   // What particle i gathers from its evaluated contacts, in ContactList::for_each_contact_of

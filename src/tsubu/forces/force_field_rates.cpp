@@ -1,119 +1,17 @@
 // ForceField's evaluation of an active set with rates (block-step Hermite): the same lists,
-// contact laws (run on Dual numbers) and gather as the fixed-step evaluation.
+// contact evaluation (forces/evaluate.hpp, on Dual numbers) and gather as the fixed steps.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "tsubu/core/parallel.hpp"
+#include "tsubu/forces/evaluate.hpp"
 #include "tsubu/forces/force_field.hpp"
 #include "tsubu/forces/gather.hpp"
-#include "tsubu/contact/pair_geometry.hpp"
-#include "tsubu/core/parallel.hpp"
 
 namespace tsubu {
-
-namespace {
-
-constexpr double kNever = std::numeric_limits<double>::infinity();
-
-// The step a contact allows (ContactStepRules): touching, the shorter of kappa_c times its
-// collision time at the current approach speed and half a period of its current stiffness;
-// apart, the time to close the gap, never below the step it would get on touching. (The
-// dashpots' bound is a particle's: see damping_rate.) The collision time (a fifth root for
-// Hertz) is computed only when it is the bound.
-template <class Normal>
-double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
-                    double v_approach, const ContactForceRate* now, double gap, double a_approach) {
-  const double u = std::max(v_approach, rules.u_floor);
-  const auto impact = [&] { return rules.kappa_c * normal.collision_time(m_eff, r_eff, u); };
-  if (!touching) {
-    const double closing = rules.eta_gap * time_to_close(gap, v_approach, a_approach);
-    return collision_longer_than(normal, m_eff, r_eff, u, closing / rules.kappa_c) ? impact() : closing;
-  }
-  if (!(now->stiffness > 0)) return impact();
-  const double spring = rules.kappa_c * M_PI * std::sqrt(m_eff / now->stiffness);
-  return collision_longer_than(normal, m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
-}
-
-// The law's models, for a law with rates (compute_active refuses a table with another).
-template <class Visit>
-void visit_law(const PairLaw& law, Visit&& visit) {
-  std::visit(
-      [&](const auto& normal, const auto& tangential) {
-        if constexpr (has_rates_v<std::decay_t<decltype(normal)>>) visit(normal, tangential);
-      },
-      law.normal, law.tangential);
-}
-
-}  // namespace
-
-template <class Normal, class Tangential>
-void ForceField::evaluate_pair_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
-                                     const Normal& normal, const Tangential& tangential) {
-  const Particles& p = world.particles;
-  Contact& c = world.contacts.pairs()[k];
-  const Kinematics a = kin.at(c.i), b = kin.at(c.j);
-  const Vec3 d = world.domain.separation(a.x, b.x);
-  const double ri = p.radius[c.i], rj = p.radius[c.j], reach = ri + rj;
-  const double dist = norm(d);
-  const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
-  const double r_eff = ri * rj / reach;
-  c.touching = dist < reach;
-  if (!c.touching) {
-    c.history = {};
-    pair_results_.set(k, {}, {}, 0, 0);
-    const Vec3 n = d / dist;
-    pair_rates_[k] = {{}, {}, 0,
-                      contact_step(normal, rules, m_eff, r_eff, false, -dot(a.v - b.v, n), nullptr, dist - reach,
-                                   -dot(a.a - b.a, n)), n};
-    return;
-  }
-  DualContactGeometry g = pair_geometry<Dual>(ri, rj, p.mass[c.i], p.mass[c.j], DualVec3(d, a.v - b.v),
-                                              DualVec3(a.v, a.a), DualVec3(b.v, b.a), DualVec3(a.w, a.alpha),
-                                              DualVec3(b.w, b.alpha));
-  g.dt = kin.since(std::max(kin.time[c.i], kin.time[c.j]));
-  ContactHistory h = c.law_history(p);
-  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, h);
-  c.set_law_history(p, h);
-  const DualVec3 n_x_ft = cross(g.n, f.tangential);
-  pair_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
-  pair_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, m_eff, r_eff, true, -g.v_n.v, &f, 0, 0), value(g.n), f.damping,
-                    f.tangential_damping};
-}
-
-template <class Normal, class Tangential>
-void ForceField::evaluate_wall_rates(World& world, const Predictor& kin, std::size_t k, const ContactStepRules& rules,
-                                     const Normal& normal, const Tangential& tangential) {
-  const Particles& p = world.particles;
-  Contact& c = world.contacts.walls()[k];
-  const Wall& wall = world.walls[c.j];
-  const Kinematics a = kin.at(c.i);
-  const double r = p.radius[c.i];
-  const Vec3 v_rel = a.v - wall.velocity;
-  const double dist = wall.distance(a.x);
-  c.touching = dist < r && dist > 0;  // the front side only (see evaluate_walls)
-  if (!c.touching) {
-    c.history = {};
-    wall_results_.set(k, {}, {}, 0, 0);
-    const double bound = dist > 0 ? contact_step(normal, rules, p.mass[c.i], r, false, -dot(v_rel, wall.normal), nullptr,
-                                                 dist - r, -dot(a.a, wall.normal))
-                                  : kNever;
-    wall_rates_[k] = {{}, {}, 0, bound, wall.normal};
-    return;
-  }
-  const DualVec3 v_centre(v_rel, a.a);
-  DualContactGeometry g = wall_geometry<Dual>(r, p.mass[c.i], wall.normal, Dual(dist, dot(v_rel, wall.normal)),
-                                              v_centre, DualVec3(a.w, a.alpha));
-  g.dt = kin.since(kin.time[c.i]);
-  const ContactForceRate f = evaluate_with_rates(normal, tangential, g, c.history);
-  const DualVec3 n_x_ft = cross(g.n, f.tangential);
-  wall_results_.set(k, value(f.total), value(n_x_ft), g.delta.v, f.energy);
-  wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                    contact_step(normal, rules, p.mass[c.i], r, true, -g.v_n.v, &f, 0, 0), wall.normal, f.damping,
-                    f.tangential_damping};
-}
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
@@ -129,20 +27,23 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   pair_rates_.resize(pairs.size());
   wall_rates_.resize(walls.size());
   // Each contact once, from its first active particle; contacts of different active
-  // particles are disjoint, so the active list can be split between threads.
+  // particles are disjoint, so the active list can be split between threads. An active
+  // particle's pairs go in blocks, each pair with its own law.
+  const PredictedState state{kin};
   parallel_for(active.size(), [&](std::size_t q) {
-    const std::uint32_t i = active[q];
-    contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
+    std::uint32_t block[kBlock];
+    std::size_t m = 0;
+    contacts.for_each_contact_of(active[q], [&](std::uint32_t k, int side) {
       if (side == 0) {
         const Contact& c = walls[k];
-        visit_law(model_->laws.at(p.material[c.i], world.walls[c.j].material),
-                  [&](const auto& n, const auto& t) { evaluate_wall_rates(world, kin, k, rules, n, t); });
+        visit_law<Dual>(model_->laws.at(p.material[c.i], world.walls[c.j].material),
+                        [&](const auto& n, const auto& t) { evaluate_wall(world, state, k, n, t, &rules); });
       } else if (side > 0 || !is_active[pairs[k].i]) {
-        const Contact& c = pairs[k];
-        visit_law(model_->laws.at(p.material[c.i], p.material[c.j]),
-                  [&](const auto& n, const auto& t) { evaluate_pair_rates(world, kin, k, rules, n, t); });
+        block[m++] = k;
+        if (m == kBlock) evaluate_pair_block(world, state, ListIndices{block, m}, nullptr, &rules), m = 0;
       }
     });
+    if (m > 0) evaluate_pair_block(world, state, ListIndices{block, m}, nullptr, &rules);
   });
   // Hindered settling: each active particle's crowding from the predicted neighbours.
   if (!crowd_list_.empty())

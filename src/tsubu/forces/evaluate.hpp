@@ -1,0 +1,305 @@
+// ForceField's one contact evaluation, for the force field's own files: geometry -> law ->
+// history -> per-contact results, written once on the number type. On double it is a fixed
+// step from the particles' current state; on Dual (core/dual.hpp) it is a block step from
+// the predicted state, and the rate channel adds each contact's rates and step bound (the
+// Rates record). Pairs go in blocks of lanes, one array per scalar, so that the loop over
+// their laws is a vector loop; walls go one at a time.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include "tsubu/contact/pair_geometry.hpp"
+#include "tsubu/forces/force_field.hpp"
+
+namespace tsubu {
+
+// A particle's motion as the laws see it: its position, and its velocity and spin on the
+// number type (on Dual with their rates, the accelerations).
+template <class T>
+struct Motion {
+  Vec3 x;
+  Vector<T> v, w;
+};
+
+// The kinematics of a fixed step: the particles' current state; every contact advances by dt.
+struct CurrentState {
+  using Number = double;
+  const Particles& p;
+  double dt;
+  Motion<double> at(std::size_t i) const { return {p.position[i], p.velocity[i], p.omega[i]}; }
+  double step(std::size_t, std::size_t) const { return dt; }
+  double step(std::size_t) const { return dt; }
+};
+
+// The kinematics of a block step: every particle predicted to the evaluation time; a contact
+// advances by the time since the later of its particles' last evaluations (their shared step).
+struct PredictedState {
+  using Number = Dual;
+  const Predictor& kin;
+  Motion<Dual> at(std::size_t i) const {
+    const Kinematics k = kin.at(i);
+    return {k.x, DualVec3(k.v, k.a), DualVec3(k.w, k.alpha)};
+  }
+  double step(std::size_t i, std::size_t j) const { return kin.since(std::max(kin.time[i], kin.time[j])); }
+  double step(std::size_t i) const { return kin.since(kin.time[i]); }
+};
+
+// A position or distance on the number type: on Dual it carries its rate.
+template <class T>
+Vector<T> with_rate(const Vec3& x, const Vec3& rate) {
+  if constexpr (std::is_same_v<T, double>) return x;
+  else return DualVec3(x, rate);
+}
+template <class T>
+T with_rate(double x, double rate) {
+  if constexpr (std::is_same_v<T, double>) return x;
+  else return Dual(x, rate);
+}
+
+// The law's models, called on the number type T: every law on double; on Dual only the laws
+// with rates (compute_active refuses a table with another).
+template <class T, class Visit>
+void visit_law(const PairLaw& law, Visit&& visit) {
+  std::visit(
+      [&](const auto& normal, const auto& tangential) {
+        if constexpr (std::is_same_v<T, double> || has_rates_v<std::decay_t<decltype(normal)>>) visit(normal, tangential);
+      },
+      law.normal, law.tangential);
+}
+
+// The law on the number type: the force (evaluate), or on Dual the force with its rates
+// (evaluate_with_rates). The history advances alike.
+template <class Normal, class Tangential, class T>
+[[gnu::always_inline]] inline auto evaluate_law(const Normal& normal, const Tangential& tangential,
+                                                const BasicContactGeometry<T>& g, ContactHistory& h) {
+  if constexpr (std::is_same_v<T, double>) return evaluate(normal, tangential, g, h);
+  else return evaluate_with_rates(normal, tangential, g, h);
+}
+
+// The rate channel's step bound of a contact (ContactStepRules): touching, the shorter of
+// kappa_c times its collision time at the current approach speed and half a period of its
+// current stiffness; apart, the time to close the gap, never below the step it would get on
+// touching. (The dashpots' bound is a particle's: see compute_active.) The collision time (a
+// fifth root for Hertz) is computed only when it is the bound.
+template <class Normal>
+double contact_step(const Normal& normal, const ContactStepRules& rules, double m_eff, double r_eff, bool touching,
+                    double v_approach, double stiffness, double gap, double a_approach) {
+  const double u = std::max(v_approach, rules.u_floor);
+  const auto impact = [&] { return rules.kappa_c * normal.collision_time(m_eff, r_eff, u); };
+  if (!touching) {
+    const double closing = rules.eta_gap * time_to_close(gap, v_approach, a_approach);
+    return collision_longer_than(normal, m_eff, r_eff, u, closing / rules.kappa_c) ? impact() : closing;
+  }
+  if (!(stiffness > 0)) return impact();
+  const double spring = rules.kappa_c * M_PI * std::sqrt(m_eff / stiffness);
+  return collision_longer_than(normal, m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
+}
+
+// One scalar of the number type in a lane: a Dual as its two doubles, left uninitialised like
+// a double (a lane is written before it is read).
+struct DualSlot {
+  double v, d;
+  DualSlot& operator=(Dual x) { return v = x.v, d = x.d, *this; }
+  operator Dual() const { return {v, d}; }
+};
+template <class T>
+using Slot = std::conditional_t<std::is_same_v<T, double>, double, DualSlot>;
+
+// A block of touching pairs held as one array per scalar ("lanes"), so that the loop over
+// the block's laws is a vector loop: each iteration reads and writes its own lane only.
+template <std::size_t N, class T>
+struct Lanes {
+  Slot<T> n[3][N], delta[N], v_n[N], v_t[3][N];                  // BasicContactGeometry
+  double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[N];
+  double xi[3][N], normal[2][N];                                 // ContactHistory
+  Slot<T> total[3][N], tangential[3][N];                         // the law's force on i
+  double energy[N], gap_shift[N];                                // ContactForce
+  double stiffness[N], damping[N], tangential_damping[N];        // ContactForceRate
+
+  static Vector<T> get(const Slot<T> (&a)[3][N], std::size_t b) { return {T(a[0][b]), T(a[1][b]), T(a[2][b])}; }
+  static void put(Slot<T> (&a)[3][N], std::size_t b, const Vector<T>& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
+
+  void set_geometry(std::size_t b, const BasicContactGeometry<T>& g, double step) {
+    put(n, b, g.n), put(v_t, b, g.v_t);
+    delta[b] = g.delta, v_n[b] = g.v_n, r_eff[b] = g.r_eff, m_eff[b] = g.m_eff, d_mean[b] = g.d_mean, d_small[b] = g.d_small;
+    dt[b] = step;
+  }
+  BasicContactGeometry<T> geometry(std::size_t b) const {
+    return {get(n, b), T(delta[b]), T(v_n[b]), get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt[b]};
+  }
+  void set_history(std::size_t b, const ContactHistory& h) {
+    xi[0][b] = h.xi.x, xi[1][b] = h.xi.y, xi[2][b] = h.xi.z, normal[0][b] = h.normal[0], normal[1][b] = h.normal[1];
+  }
+  ContactHistory history(std::size_t b) const { return {{xi[0][b], xi[1][b], xi[2][b]}, {normal[0][b], normal[1][b]}}; }
+  void set_force(std::size_t b, const ContactForce& f) {
+    put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy, gap_shift[b] = f.gap_shift;
+  }
+  void set_force(std::size_t b, const ContactForceRate& f) {
+    put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy;
+    stiffness[b] = f.stiffness, damping[b] = f.damping, tangential_damping[b] = f.tangential_damping;
+  }
+  // The law of every lane: a vector loop.
+  template <class Normal, class Tangential>
+  void evaluate_all(std::size_t m, const Normal& normal_model, const Tangential& tangential_model) {
+#pragma omp simd
+    for (std::size_t b = 0; b < m; ++b) evaluate_one(b, normal_model, tangential_model);
+  }
+  template <class Normal, class Tangential>
+  [[gnu::always_inline]] void evaluate_one(std::size_t b, const Normal& normal_model, const Tangential& tangential_model) {
+    ContactHistory h = history(b);
+    set_force(b, evaluate_law(normal_model, tangential_model, geometry(b), h));
+    set_history(b, h);
+  }
+};
+
+// The pair-list entries of a block: a range of the list (fixed steps) or the indices of the
+// pairs an active particle evaluates (block steps).
+struct ListRange {
+  std::size_t begin, end;
+  std::size_t size() const { return end - begin; }
+  std::size_t operator[](std::size_t e) const { return begin + e; }
+};
+struct ListIndices {
+  const std::uint32_t* index;
+  std::size_t count;
+  std::size_t size() const { return count; }
+  std::size_t operator[](std::size_t e) const { return index[e]; }
+};
+
+template <class State, class Entries>
+void ForceField::evaluate_pair_block(World& world, const State& state, const Entries& entries, const PairLaw* shared,
+                                     const ContactStepRules* rules) {
+  using T = typename State::Number;
+  constexpr bool kRates = std::is_same_v<T, Dual>;
+  const Particles& p = world.particles;
+  auto& contacts = world.contacts.pairs();
+  const auto law_of = [&](const Contact& c) -> const PairLaw& { return model_->laws.at(p.material[c.i], p.material[c.j]); };
+  // Scalar pass: which entries touch. The touching ones are listed; the rest have their
+  // history and results cleared (fixed steps: every entry's result is cleared and its history
+  // kept only if it touches, without a branch on touching, which is unpredictable).
+  std::uint32_t touching[kBlock];
+  Vec3 separation[kBlock];
+  std::size_t m = 0;
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const std::size_t k = entries[e];
+    Contact& c = contacts[k];
+    const Motion<T> a = state.at(c.i), b = state.at(c.j);
+    const Vec3 d = world.domain.separation(a.x, b.x);
+    const double reach = p.radius[c.i] + p.radius[c.j];
+    if constexpr (kRates) {
+      const double dist = norm(d);
+      c.touching = dist < reach;
+      if (!c.touching) {
+        // The rate channel of a pair apart: no force, and the step bound of its approach.
+        c.history = {};
+        pair_results_.set(k, {}, {}, 0, 0);
+        const Vec3 n = d / dist;
+        const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
+        const double r_eff = p.radius[c.i] * p.radius[c.j] / reach;
+        visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
+          pair_rates_[k] = {{}, {}, 0,
+                            contact_step(normal, *rules, m_eff, r_eff, false, -dot(value(a.v) - value(b.v), n), 0,
+                                         dist - reach, -dot(rate(a.v) - rate(b.v), n)),
+                            n};
+        });
+      }
+    } else {
+      c.touching = norm2(d) < reach * reach;
+      const double keep = c.touching;
+      c.history.xi *= keep;
+      c.history.normal[0] *= keep, c.history.normal[1] *= keep;
+      pair_results_.set(k, {}, {}, 0, 0);
+    }
+    touching[m] = static_cast<std::uint32_t>(k);
+    separation[m] = d;
+    m += c.touching;
+  }
+  if constexpr (!kRates)
+    if (shifts_)
+      for (std::size_t e = 0; e < entries.size(); ++e) pair_results_.shift_i[entries[e]] = pair_results_.shift_j[entries[e]] = {};
+  // The touching pairs' geometry and history (as the laws see it, from i) go into lanes.
+  Lanes<kBlock, T> lanes;
+  for (std::size_t b = 0; b < m; ++b) {
+    const Contact& c = contacts[touching[b]];
+    const Motion<T> mi = state.at(c.i), mj = state.at(c.j);
+    const Vector<T> d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
+    lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
+                       state.step(c.i, c.j));
+    lanes.set_history(b, c.law_history(p));
+  }
+  if (shared) {
+    visit_law<T>(*shared, [&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, normal, tangential); });
+  } else {
+    for (std::size_t b = 0; b < m; ++b)
+      visit_law<T>(law_of(contacts[touching[b]]), [&](const auto& nm, const auto& tm) { lanes.evaluate_one(b, nm, tm); });
+  }
+  // The results (and the histories) back to their contacts.
+  for (std::size_t b = 0; b < m; ++b) {
+    const std::size_t k = touching[b];
+    Contact& c = contacts[k];
+    c.set_law_history(p, lanes.history(b));
+    const Vector<T> n = lanes.get(lanes.n, b), total = lanes.get(lanes.total, b);
+    const Vector<T> n_x_ft = cross(n, lanes.get(lanes.tangential, b));
+    const T delta = lanes.delta[b];
+    pair_results_.set(k, value(total), value(n_x_ft), value(delta), lanes.energy[b]);
+    if constexpr (kRates) {
+      const double v_n = T(lanes.v_n[b]).v;
+      visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
+        pair_rates_[k] = {rate(total), rate(n_x_ft), delta.d,
+                          contact_step(normal, *rules, lanes.m_eff[b], lanes.r_eff[b], true, -v_n, lanes.stiffness[b], 0, 0),
+                          value(n), lanes.damping[b], lanes.tangential_damping[b]};
+      });
+    } else if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
+      const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
+      pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
+      pair_results_.shift_j[k] = (-shift / p.mass[c.j]) * n;
+    }
+  }
+}
+
+template <class State, class Normal, class Tangential>
+void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, const Normal& normal,
+                               const Tangential& tangential, const ContactStepRules* rules) {
+  using T = typename State::Number;
+  constexpr bool kRates = std::is_same_v<T, Dual>;
+  const Particles& p = world.particles;
+  Contact& c = world.contacts.walls()[k];
+  const std::size_t i = c.i;
+  const Wall& wall = world.walls[c.j];
+  const double r = p.radius[i];
+  const Motion<T> a = state.at(i);
+  const Vector<T> v_rel = a.v - Vector<T>(wall.velocity);
+  const double dist = wall.distance(a.x);
+  // Touching from the front side only: a centre behind the plane has tunnelled through and
+  // feels no force from it.
+  c.touching = dist < r && dist > 0;
+  if (!c.touching) {
+    c.history = {};
+    wall_results_.set(k, {}, {}, 0, 0);
+    if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
+      const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -dot(value(v_rel), wall.normal), 0,
+                                                   dist - r, -dot(rate(v_rel), wall.normal))
+                                    : std::numeric_limits<double>::infinity();
+      wall_rates_[k] = {{}, {}, 0, bound, wall.normal};
+    } else if (shifts_) {
+      wall_results_.shift_i[k] = {};
+    }
+    return;
+  }
+  BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], wall.normal, with_rate<T>(dist, dot(value(v_rel), wall.normal)),
+                                               v_rel, a.w);
+  g.dt = state.step(i);
+  const auto f = evaluate_law(normal, tangential, g, c.history);
+  const Vector<T> n_x_ft = cross(g.n, f.tangential);
+  wall_results_.set(k, value(f.total), value(n_x_ft), value(g.delta), f.energy);
+  if constexpr (kRates)
+    wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
+                      contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), wall.normal, f.damping,
+                      f.tangential_damping};
+  else if (shifts_)
+    wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
+}
+
+}  // namespace tsubu
