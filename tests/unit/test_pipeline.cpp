@@ -11,8 +11,10 @@ namespace tsubu {
 namespace {
 
 // A bed being poured onto the floor (grains in contact with each other and with the floor,
-// others still falling), without a fluid; `edit` changes the scenario before the run.
-void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(Scenario&) = nullptr) {
+// others still falling), without a fluid; `edit` changes the scenario before the run,
+// `edit_bed` the bed after it.
+void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(Scenario&) = nullptr,
+                             void (*edit_bed)(World&) = nullptr) {
   std::vector<std::string> overrides = {"simulation.duration=0.06", "search.sort_every=0"};
   overrides.insert(overrides.end(), law.begin(), law.end());
   Scenario sc = testing::test_scenario("settle_mono.toml", overrides);
@@ -20,7 +22,8 @@ void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(S
   Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
   sim.start();
   sim.advance_to(std::llround(sc.duration / sc.dt));
-  const World bed = sim.world();
+  World bed = sim.world();
+  if (edit_bed) edit_bed(bed);
   const Model model = build_model(sc);
   const std::size_t n = bed.particles.size();
 
@@ -95,6 +98,17 @@ TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsMixedLaws) {
     glass_steel.friction = 0.5;
     sc.pair_contacts.push_back({0, 1, glass_steel});
   });
+}
+
+// Grains of two materials with the same model types but their own parameters: every pair
+// is evaluated with the law of its materials, whichever the evaluation. (The fixed steps
+// once took the first material pair's law for every pair when the model types agreed.)
+TEST(Pipeline, FixedAndBlockStepEvaluationsGiveTheSameBitsTwoGrainMaterials) {
+  expect_same_evaluations(
+      {}, [](Scenario& sc) { sc.materials.push_back({"stiff glass", 2500, 4 * sc.materials[0].youngs_modulus, 0.2}); },
+      [](World& bed) {
+        for (std::size_t i = 0; i < bed.particles.size(); i += 2) bed.particles.material[i] = 1;
+      });
 }
 
 // A law defined on fixed steps only (here model P) cannot be evaluated for block steps: an

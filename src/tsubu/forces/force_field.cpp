@@ -124,6 +124,10 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   contacts.carry_walls(candidates);
   contacts.index(world.particles.size());
   build_crowd_list(world, probe, margin, candidates);
+  pair_law_ = nullptr;  // the law every listed pair shares: grains all of one material
+  const std::vector<int>& material = world.particles.material;
+  if (!material.empty() && std::all_of(material.begin(), material.end(), [&](int m) { return m == material.front(); }))
+    pair_law_ = &model_->laws.at(material.front(), material.front());
   ++rebuilds_;
 }
 
@@ -173,13 +177,12 @@ void ForceField::evaluate_pairs(World& world) {
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
   const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
   const int threads = threads_for(contacts.size());
-  const PairLaw* shared = model_->laws.uniform() ? &model_->laws.laws.front() : nullptr;
   const CurrentState state{world.particles, world.dt};
   for_each_thread(threads, [&](int t) {
     const auto [first, last] = static_range(blocks, t, threads);
     for (std::size_t block = first; block < last; ++block)
-      evaluate_pair_block(world, state, ListRange{block * kBlock, std::min((block + 1) * kBlock, contacts.size())}, shared,
-                          nullptr);
+      evaluate_pair_block(world, state, ListRange{block * kBlock, std::min((block + 1) * kBlock, contacts.size())},
+                          pair_law_, nullptr);
   });
 }
 

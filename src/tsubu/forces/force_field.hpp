@@ -187,6 +187,9 @@ class ForceField {
   std::vector<Rates> pair_rates_, wall_rates_;
   std::vector<Vec3> built_at_;  // positions at the last build
   bool shifts_ = false;         // some law corrects positions
+  // The law of every listed pair when the grains are all of one material (set at each build;
+  // the pairs are then evaluated in vector lanes), else null: each pair takes its own.
+  const PairLaw* pair_law_ = nullptr;
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
@@ -204,8 +207,8 @@ class ForceField {
   // step on double (CurrentState: the particles' arrays), a block step on Dual
   // (PredictedState: the predictor's kinematics), where the rate channel also fills the
   // Rates under `rules` (null for fixed steps). Pairs go in blocks of at most kBlock list
-  // entries, evaluated with `shared` when the caller has one law for all, else each with its
-  // own; walls one at a time, with their law.
+  // entries, evaluated with `shared` when every pair of the list has that law (pair_law_),
+  // else each with its own; walls one at a time, with their law.
   static constexpr std::size_t kBlock = 32;
   template <class State, class Entries>
   void evaluate_pair_block(World& world, const State& state, const Entries& entries, const PairLaw* shared,

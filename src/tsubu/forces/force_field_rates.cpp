@@ -40,10 +40,10 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
                         [&](const auto& n, const auto& t) { evaluate_wall(world, state, k, n, t, &rules); });
       } else if (side > 0 || !is_active[pairs[k].i]) {
         block[m++] = k;
-        if (m == kBlock) evaluate_pair_block(world, state, ListIndices{block, m}, nullptr, &rules), m = 0;
+        if (m == kBlock) evaluate_pair_block(world, state, ListIndices{block, m}, pair_law_, &rules), m = 0;
       }
     });
-    if (m > 0) evaluate_pair_block(world, state, ListIndices{block, m}, nullptr, &rules);
+    if (m > 0) evaluate_pair_block(world, state, ListIndices{block, m}, pair_law_, &rules);
   });
   // Hindered settling: each active particle's crowding from the predicted neighbours.
   if (!crowd_list_.empty())
