@@ -139,9 +139,9 @@ struct MindlinSlip {
     const T limit = T(mu) * abs(fn.elastic);   // mu |f_c^n|
     const T pull = stretch > T(0.0) && xi_max > T(0.0) ? chi * limit / stretch : T(0.0);
     const V f_t = -(T(damping_ratio) * fn.damping) * g.v_t - pull * xi;
-    if (!bound_whole_force) return f_t;
+    // A select, not a branch: the force loop stays a vector loop (f_t * 1 is f_t, bit for bit).
     const T f2 = norm2(f_t);
-    return f_t * (f2 > limit * limit ? limit / sqrt(f2) : T(1.0));
+    return f_t * (bound_whole_force && f2 > limit * limit ? limit / sqrt(f2) : T(1.0));
   }
 };
 
