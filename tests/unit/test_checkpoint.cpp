@@ -130,8 +130,8 @@ Checkpoint sample_checkpoint() {
   }
   c.wall_points = {{0, 0, 0}, {0, 0, 0.026 - 1e-5 / 3}};
   c.wall_velocities = {{}, {0, 0, -0.1}};
-  Contact a{0, 2, true, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
-  Contact b{1, 0, false, {}};
+  Contact a{0, 2, true, false, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
+  Contact b{1, 0, false, false, {}};
   c.pair_contacts = {a};
   c.wall_contacts = {b};
   return c;

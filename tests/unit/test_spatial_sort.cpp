@@ -23,8 +23,8 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   const Vec3 at[4] = {{0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, {0.9, 0.1, 0.1}, {0.1, 0.9, 0.1}};
   for (int k = 0; k < 4; ++k) w.particles.add(10 + k, 0, 0.01 * (k + 1), 2500, at[k], {double(k), 0, 0});
   for (int k = 0; k < 4; ++k) w.particles.force[k] = {0, 0, double(k)};
-  w.contacts.assign({{0, 1, true, {{1, 2, 3}, {4, 0}}}, {1, 2, true, {{5, 6, 7}, {8, 0}}}},
-                    {{0, 0, true, {{9, 9, 9}, {0, 0}}}}, 4);
+  w.contacts.assign({{0, 1, true, false, {{1, 2, 3}, {4, 0}}}, {1, 2, true, false, {{5, 6, 7}, {8, 0}}}},
+                    {{0, 0, true, false, {{9, 9, 9}, {0, 0}}}}, w.particles);
   const Vec3* positions = w.particles.position.data();
   const std::int64_t* ids = w.particles.id.data();
   sort_spatially(w);
@@ -49,12 +49,12 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   ASSERT_EQ(pairs.size(), 2u);
   EXPECT_EQ(pairs[0].i, 0u);
   EXPECT_EQ(pairs[0].j, 1u);
-  EXPECT_EQ(pairs[0].law_history(p).xi, (Vec3{5, 6, 7}));
-  EXPECT_EQ(pairs[0].law_history(p).normal[0], 8);
+  EXPECT_EQ(pairs[0].law_history().xi, (Vec3{5, 6, 7}));
+  EXPECT_EQ(pairs[0].law_history().normal[0], 8);
   EXPECT_EQ(pairs[1].i, 0u);
   EXPECT_EQ(pairs[1].j, 3u);
-  EXPECT_EQ(pairs[1].law_history(p).xi, (Vec3{-1, -2, -3}));
-  EXPECT_EQ(pairs[1].law_history(p).normal[0], 4);
+  EXPECT_EQ(pairs[1].law_history().xi, (Vec3{-1, -2, -3}));
+  EXPECT_EQ(pairs[1].law_history().normal[0], 4);
   EXPECT_EQ(pairs[1].history.xi, (Vec3{1, 2, 3})) << "stored from id 10, whatever the indices";
   ASSERT_EQ(w.contacts.walls().size(), 1u);
   EXPECT_EQ(w.contacts.walls()[0].i, 3u);

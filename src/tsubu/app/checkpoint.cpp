@@ -380,7 +380,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
 World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesystem::path& file) {
   World world = build_empty_world(sc);
   world.particles = std::move(c.particles);
-  world.contacts.assign(std::move(c.pair_contacts), std::move(c.wall_contacts), world.particles.size());
+  world.contacts.assign(std::move(c.pair_contacts), std::move(c.wall_contacts), world.particles);
   world.step = c.step;
   world.time = c.time;
   world.source_ids = c.record.source_ids;  // none in a checkpoint of an older tsubu

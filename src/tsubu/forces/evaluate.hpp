@@ -227,7 +227,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const Vector<T> d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
     lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
                        state.step(c.i, c.j));
-    lanes.set_history(b, c.law_history(p));
+    lanes.set_history(b, c.law_history());
   }
   if (shared) {
     visit_law<T>(*shared, [&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, normal, tangential); });
@@ -239,7 +239,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   for (std::size_t b = 0; b < m; ++b) {
     const std::size_t k = touching[b];
     Contact& c = contacts[k];
-    c.set_law_history(p, lanes.history(b));
+    c.set_law_history(lanes.history(b));
     const Vector<T> n = lanes.get(lanes.n, b), total = lanes.get(lanes.total, b);
     const Vector<T> n_x_ft = cross(n, lanes.get(lanes.tangential, b));
     const T delta = lanes.delta[b];

@@ -122,7 +122,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   contacts.carry_pairs(candidates);
   find_wall_contacts(world, probe, margin, candidates);
   contacts.carry_walls(candidates);
-  contacts.index(world.particles.size());
+  contacts.index(world.particles);
   build_crowd_list(world, probe, margin, candidates);
   pair_law_ = nullptr;  // the law every listed pair shares: grains all of one material
   const std::vector<int>& material = world.particles.material;

@@ -36,13 +36,13 @@ std::vector<Contact> ContactList::carry(const std::vector<Pair>& found, const st
   return out;
 }
 
-void ContactList::assign(std::vector<Contact> pairs, std::vector<Contact> walls, std::size_t n) {
+void ContactList::assign(std::vector<Contact> pairs, std::vector<Contact> walls, const Particles& p) {
   pairs_ = std::move(pairs);
   walls_ = std::move(walls);
-  index(n);
+  index(p);
 }
 
-void ContactList::renumber(const std::vector<std::uint32_t>& new_index) {
+void ContactList::renumber(const std::vector<std::uint32_t>& new_index, const Particles& p) {
   for (Contact& c : pairs_) {
     c.i = new_index[c.i], c.j = new_index[c.j];
     if (c.i > c.j) std::swap(c.i, c.j);  // the history, stored by id, stays as it is
@@ -50,10 +50,12 @@ void ContactList::renumber(const std::vector<std::uint32_t>& new_index) {
   for (Contact& c : walls_) c.i = new_index[c.i];
   std::sort(pairs_.begin(), pairs_.end(), by_pair);
   std::sort(walls_.begin(), walls_.end(), by_pair);
-  index(new_index.size());
+  index(p);
 }
 
-void ContactList::index(std::size_t n) {
+void ContactList::index(const Particles& p) {
+  const std::size_t n = p.size();
+  for (Contact& c : pairs_) c.turned = p.id[c.i] > p.id[c.j];
   auto first = [](const Contact& c) { return c.i; };
   count_starts(pairs_, n, first, first_start_);
   count_starts(pairs_, n, [](const Contact& c) { return c.j; }, second_start_);

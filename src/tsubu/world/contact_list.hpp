@@ -46,17 +46,21 @@ struct Pair {
 struct Contact {
   std::uint32_t i, j;
   bool touching = false;
+  // Pairs only: the smaller id is j's, so the laws' history is the stored one turned. Set
+  // by ContactList::index() from the particles' ids (kept with the entry, so that the
+  // evaluation reads no id and takes no branch on it).
+  bool turned = false;
   ContactHistory history;
 
-  // Pairs only.
-  bool seen_from_j(const Particles& p) const { return p.id[i] > p.id[j]; }
-  ContactHistory law_history(const Particles& p) const {
+  // Pairs only. The turn is a multiplication by -1, exactly a negation, without a branch
+  // (whether a pair is turned is unpredictable once the particles are sorted in space).
+  ContactHistory law_history() const {
     ContactHistory h = history;
-    if (seen_from_j(p)) h.xi = -h.xi;
+    h.xi *= turned ? -1.0 : 1.0;
     return h;
   }
-  void set_law_history(const Particles& p, ContactHistory h) {
-    if (seen_from_j(p)) h.xi = -h.xi;
+  void set_law_history(ContactHistory h) {
+    h.xi *= turned ? -1.0 : 1.0;
     history = h;
   }
 };
@@ -74,15 +78,17 @@ class ContactList {
   void carry_pairs(const std::vector<Pair>& found) { pairs_ = carry(found, pairs_); }
   void carry_walls(const std::vector<Pair>& found) { walls_ = carry(found, walls_); }
   // Lists from elsewhere (a checkpoint, a test; histories stored by id, sorted by (i, j)),
-  // indexed over n particles.
-  void assign(std::vector<Contact> pairs, std::vector<Contact> walls, std::size_t n);
-  // The particles were renumbered (new_index[old] = new): the entries follow their
-  // particles and are sorted by (i, j) again. No history changes.
-  void renumber(const std::vector<std::uint32_t>& new_index);
+  // indexed over the particles p.
+  void assign(std::vector<Contact> pairs, std::vector<Contact> walls, const Particles& p);
+  // The particles were renumbered (new_index[old] = new; p: the particles, already in their
+  // new order): the entries follow their particles and are sorted by (i, j) again. No
+  // history changes.
+  void renumber(const std::vector<std::uint32_t>& new_index, const Particles& p);
 
-  // The per-particle index over n particles, after the lists changed; release_index() frees
-  // it (before a search, to lower the peak memory).
-  void index(std::size_t n);
+  // The per-particle index over the particles p, and each pair's turn (Contact::turned),
+  // after the lists changed; release_index() frees the index (before a search, to lower the
+  // peak memory).
+  void index(const Particles& p);
   void release_index() { first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {}; }
 
   // f(partner, k) for every listed pair k of particle i.

@@ -43,7 +43,7 @@ std::vector<std::uint32_t> sort_spatially(World& world) {
 
   std::vector<std::uint32_t> renumber(n);  // renumber[old] = new
   for (std::uint32_t k = 0; k < n; ++k) renumber[order[k]] = k;
-  world.contacts.renumber(renumber);
+  world.contacts.renumber(renumber, p);
   return order;
 }
 
