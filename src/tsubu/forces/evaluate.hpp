@@ -22,13 +22,18 @@ struct Motion {
   Vec3 x;
   Vector<T> v, w;
 };
+// The same on double, read in place from the particles' arrays (no copy on the fixed steps'
+// path).
+struct MotionInPlace {
+  const Vec3 &x, &v, &w;
+};
 
 // The kinematics of a fixed step: the particles' current state; every contact advances by dt.
 struct CurrentState {
   using Number = double;
   const Particles& p;
   double dt;
-  Motion<double> at(std::size_t i) const { return {p.position[i], p.velocity[i], p.omega[i]}; }
+  MotionInPlace at(std::size_t i) const { return {p.position[i], p.velocity[i], p.omega[i]}; }
   double step(std::size_t, std::size_t) const { return dt; }
   double step(std::size_t) const { return dt; }
 };
@@ -185,7 +190,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   for (std::size_t e = 0; e < entries.size(); ++e) {
     const std::size_t k = entries[e];
     Contact& c = contacts[k];
-    const Motion<T> a = state.at(c.i), b = state.at(c.j);
+    const auto a = state.at(c.i), b = state.at(c.j);
     const Vec3 d = world.domain.separation(a.x, b.x);
     const double reach = p.radius[c.i] + p.radius[c.j];
     if constexpr (kRates) {
@@ -223,7 +228,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   Lanes<kBlock, T> lanes;
   for (std::size_t b = 0; b < m; ++b) {
     const Contact& c = contacts[touching[b]];
-    const Motion<T> mi = state.at(c.i), mj = state.at(c.j);
+    const auto mi = state.at(c.i), mj = state.at(c.j);
     const Vector<T> d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
     lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
                        state.step(c.i, c.j));
@@ -269,7 +274,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const std::size_t i = c.i;
   const Wall& wall = world.walls[c.j];
   const double r = p.radius[i];
-  const Motion<T> a = state.at(i);
+  const auto a = state.at(i);
   const Vector<T> v_rel = a.v - Vector<T>(wall.velocity);
   const double dist = wall.distance(a.x);
   // Touching from the front side only: a centre behind the plane has tunnelled through and

@@ -8,6 +8,7 @@
 // changes it. The lists themselves stay ordered by index, which fixes the gather's
 // summation order.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -52,16 +53,23 @@ struct Contact {
   bool turned = false;
   ContactHistory history;
 
-  // Pairs only. The turn is a multiplication by -1, exactly a negation, without a branch
-  // (whether a pair is turned is unpredictable once the particles are sorted in space).
+  // Pairs only. The turn flips the spring's sign bits, without a branch (whether a pair is
+  // turned is unpredictable once the particles are sorted in space).
   ContactHistory law_history() const {
     ContactHistory h = history;
-    h.xi *= turned ? -1.0 : 1.0;
+    h.xi = turn(h.xi);
     return h;
   }
   void set_law_history(ContactHistory h) {
-    h.xi *= turned ? -1.0 : 1.0;
+    h.xi = turn(h.xi);
     history = h;
+  }
+
+ private:
+  Vec3 turn(const Vec3& v) const {
+    const std::uint64_t sign = std::uint64_t{turned} << 63;
+    const auto flip = [&](double x) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) ^ sign); };
+    return {flip(v.x), flip(v.y), flip(v.z)};
   }
 };
 
