@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "tsubu/contact/geometry.hpp"
 #include "tsubu/contact/law_traits.hpp"
@@ -133,8 +134,11 @@ struct HertzSediment {
     const double K = hertz_stiffness(e_star, g.r_eff);
     const T root_delta = sqrt(g.delta);
     const T f_el = T(K) * g.delta * root_delta;
-    const T eta = tsuji_dashpot ? T(alpha) * sqrt(T(K * g.m_eff) * root_delta)
-                                : T(alpha * std::sqrt(K * g.m_eff * std::sqrt(g.d_mean)));
+    // The choice is made on lane data (the overlap against -inf or +inf): GCC 12 does not
+    // vectorise a select on a plain flag, and model H is the sedimentation runs' law.
+    const double tsuji_above = tsuji_dashpot ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    const T eta = value(g.delta) > tsuji_above ? T(alpha) * sqrt(T(K * g.m_eff) * root_delta)
+                                               : T(alpha * std::sqrt(K * g.m_eff * std::sqrt(g.d_mean)));
     return {f_el - eta * g.v_n, T(1.5 * K) * root_delta, eta, T(0.4) * f_el * g.delta, f_el};
   }
 };

@@ -145,7 +145,7 @@ struct Lanes {
     put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy;
     stiffness[b] = f.stiffness, damping[b] = f.damping, tangential_damping[b] = f.tangential_damping;
   }
-  // The law of every lane: a vector loop.
+  // The law of every lane: a vector loop (the LawLoopVectorises test checks that it is one).
   template <class Normal, class Tangential>
   void evaluate_all(std::size_t m, const Normal& normal_model, const Tangential& tangential_model) {
 #pragma omp simd

@@ -63,6 +63,9 @@ struct BodyLoad {
 // build; in between, each step only evaluates the listed pairs.
 class ForceField {
  public:
+  // The list entries of one pair block: the lanes of the law loop (forces/evaluate.hpp).
+  static constexpr std::size_t kBlock = 32;
+
   // The physics the field evaluates; `model` must outlive the field.
   explicit ForceField(const Model& model) : model_(&model), without_rates_(model.laws.without_rates()) {}
   const Model& model() const { return *model_; }
@@ -209,7 +212,6 @@ class ForceField {
   // Rates under `rules` (null for fixed steps). Pairs go in blocks of at most kBlock list
   // entries, evaluated with `shared` when every pair of the list has that law (pair_law_),
   // else each with its own; walls one at a time, with their law.
-  static constexpr std::size_t kBlock = 32;
   template <class State, class Entries>
   void evaluate_pair_block(World& world, const State& state, const Entries& entries, const PairLaw* shared,
                            const ContactStepRules* rules);
