@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -301,6 +302,18 @@ def test_only_selects_cases(grid_run, tmp_path):
     done = sweep(finished, "--only", "simulation.seed=4")
     assert done.returncode == 0 and "sweep: 2 of 2 cases finished" in done.stderr, done.stderr
     assert [row["status"] for row in results(out).values()] == ["ok"] * 4, "results.csv keeps the cases left out"
+
+
+def test_only_takes_a_bare_word_as_the_string_it_spells():
+    """--only KEY=word (as a shell leaves KEY="word") selects the cases whose string parameter is
+    that word; a word no case has is refused, naming the values."""
+    cases = [SimpleNamespace(params={"contact.default.friction_bound": bound, "simulation.seed": seed})
+             for bound in ("total", "spring") for seed in (1, 2)]
+    bare = tsubu.sweep.select_cases(cases, ["contact.default.friction_bound=spring"])
+    quoted = tsubu.sweep.select_cases(cases, ['contact.default.friction_bound="spring"'])
+    assert bare == quoted and [c.params["simulation.seed"] for c in bare] == [1, 2]
+    with pytest.raises(SweepError, match='no case matches; contact.default.friction_bound takes "total", "spring"'):
+        tsubu.sweep.select_cases(cases, ["contact.default.friction_bound=sprung"])
 
 
 def test_only_that_matches_no_case_lists_the_values(tmp_path):

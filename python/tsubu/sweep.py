@@ -366,15 +366,16 @@ def write_results(sweep, path):
 
 def select_cases(cases, only):
     """The cases whose parameters match every "KEY=VALUE" of `only` (VALUE in TOML, as the
-    sweep file writes it: particles.0.solid_fraction=0.1); SweepError when none does, listing
-    the values each key takes."""
+    sweep file writes it: particles.0.solid_fraction=0.1; a bare word that is not TOML is the
+    string it spells, as typed at a shell: contact.default.friction_bound=spring); SweepError
+    when none does, listing the values each key takes."""
     wanted = {}
     for item in only or ():
         key, sep, text = item.partition("=")
         try:
             wanted[key.strip()] = tomllib.loads(f"v = {text}")["v"] if sep else None
-        except tomllib.TOMLDecodeError as e:
-            raise SweepError(f"--only {item}: {text!r} is not a TOML value ({e})") from None
+        except tomllib.TOMLDecodeError:
+            wanted[key.strip()] = text.strip()  # matches a string value, or no case (an error below)
         if not sep:
             raise SweepError(f"--only {item}: expected KEY=VALUE, e.g. particles.0.solid_fraction=0.1")
     known = list(dict.fromkeys(k for c in cases for k in c.params))
