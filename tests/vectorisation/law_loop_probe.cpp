@@ -1,0 +1,13 @@
+// The probe of the LawLoopVectorises test (tests/vectorisation/law_loop.cmake): one contact law's
+// loop over a block of pairs, compiled alone, so that the compiler's vectoriser report names
+// no other loop. PROBE_NORMAL and PROBE_TANGENTIAL name the law; PROBE_NUMBER its number type.
+#include "tsubu/forces/evaluate.hpp"
+
+namespace tsubu {
+
+void law_loop_probe(Lanes<ForceField::kBlock, PROBE_NUMBER>& lanes, std::size_t m, const PROBE_NORMAL& normal,
+                    const PROBE_TANGENTIAL& tangential) {
+  lanes.evaluate_all(m, normal, tangential);
+}
+
+}  // namespace tsubu
