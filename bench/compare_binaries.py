@@ -9,11 +9,18 @@ median and their spread (min, max): alternation makes the ratio robust to the ma
 drift; the spread says how far to trust it. Run it on an idle machine.
 
     python3 bench/compare_binaries.py OLD_TSUBU NEW_TSUBU [--beds mono-settled poly10-settled]
-        [--pairs 5] [--threads 1] [--markdown]
+        [--pairs 5] [--threads 1] [--set KEY=VALUE ...] [--markdown]
 
-The beds are bench/<bed>.toml (their particles come from ../shared/bench/, see
-bench/compare_peers.sh). OLD_TSUBU is, for example, a build of the commit before the change
-(see tools/compare_runs.py for how to build one beside the checkout).
+A bed is bench/<bed>.toml (their particles come from ../shared/bench/, see
+bench/compare_peers.sh) or the path of any scenario file, with --set overrides given to both
+binaries alike. A sedimentation run (model H, the still fluid, the inflow), for example:
+
+    python3 bench/compare_binaries.py OLD_TSUBU NEW_TSUBU --pairs 3 \
+        --beds examples/sedimentation/poly.toml \
+        --set particles.0.distribution.spread=1.3863 --set simulation.duration=0.9
+
+OLD_TSUBU is, for example, a build of the commit before the change (see
+tools/compare_runs.py for how to build one beside the checkout).
 """
 import argparse
 import json
@@ -26,10 +33,17 @@ import tempfile
 HERE = pathlib.Path(__file__).resolve().parent
 
 
-def rate(tsubu, bed, threads, out):
-    cmd = [tsubu, "run", str(HERE / f"{bed}.toml"), "--out", str(out), "--overwrite", "--threads", str(threads),
+def scenario_of(bed):
+    """A bench bed by name (bench/<bed>.toml) or a scenario file by its path."""
+    return bed if bed.endswith(".toml") else str(HERE / f"{bed}.toml")
+
+
+def rate(tsubu, bed, threads, out, sets):
+    cmd = [tsubu, "run", scenario_of(bed), "--out", str(out), "--overwrite", "--threads", str(threads),
            "--set", "output.vtk_interval=0", "--set", "output.checkpoint_every_steps=0",
            "--set", "output.checkpoint_every_seconds=0"]
+    for s in sets:
+        cmd += ["--set", s]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed ({r.returncode}):\n{r.stderr}")
@@ -43,18 +57,19 @@ def main():
     ap.add_argument("--beds", nargs="+", default=["mono-settled", "poly10-settled"])
     ap.add_argument("--pairs", type=int, default=5)
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an override for both binaries")
     ap.add_argument("--markdown", action="store_true", help="print the summary as a Markdown table")
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
         for bed in args.beds:
-            rate(args.old, bed, args.threads, work / "old")  # warm-up: the bed file in the page cache
-            rate(args.new, bed, args.threads, work / "new")
+            rate(args.old, bed, args.threads, work / "old", args.set)  # warm-up: the bed file in the page cache
+            rate(args.new, bed, args.threads, work / "new", args.set)
             ratios, olds, news = [], [], []
             for k in range(args.pairs):
-                old = rate(args.old, bed, args.threads, work / "old")
-                new = rate(args.new, bed, args.threads, work / "new")
+                old = rate(args.old, bed, args.threads, work / "old", args.set)
+                new = rate(args.new, bed, args.threads, work / "new", args.set)
                 olds.append(old), news.append(new), ratios.append(new / old)
                 print(f"{bed} pair {k + 1}: old {old:.4g}, new {new:.4g} particle-steps/s, new/old {new / old:.3f}",
                       flush=True)

@@ -14,9 +14,7 @@ RunCheckpoints::RunCheckpoints(const Scenario& sc, const std::filesystem::path& 
       every_seconds_(sc.output.checkpoint_every_seconds),
       enabled_(every_steps_ > 0 || every_seconds_ > 0 || from),
       fresh_(!from),
-      newest_step_(from ? from->step : -1) {}
-
-void RunCheckpoints::prepare_folder(const Scenario& sc) const {
+      newest_step_(from ? from->step : -1) {
   if (!enabled_) return;
   std::filesystem::create_directories(dir_);
   if (fresh_) write_file_atomically(dir_ / "scenario.toml", sc.text);

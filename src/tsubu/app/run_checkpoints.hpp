@@ -18,14 +18,13 @@ class RunCheckpoints {
  public:
   // `from`: the checkpoint a resume continues from, or null for a fresh run. A resumed run
   // continues from checkpoints and ends with one even when its --set turned the periodic
-  // ones off: a later resume from an older one would cut its outputs back.
+  // ones off: a later resume from an older one would cut its outputs back. When the run
+  // writes any, the folder is made here, with the scenario as run (a fresh run's; the
+  // checkpoints hold their own copy) and the overrides of the run and its resumes, for people.
   RunCheckpoints(const Scenario& sc, const std::filesystem::path& out_dir, const Checkpoint* from);
 
-  // Whether this run writes any: then the folder is made, with the scenario as run (a fresh
-  // run's; the checkpoints hold their own copy) and the overrides of the run and its resumes,
-  // for people.
+  // Whether this run writes any.
   bool enabled() const { return enabled_; }
-  void prepare_folder(const Scenario& sc) const;
   // A periodic checkpoint is due after step `step`.
   bool due(std::int64_t step, const RunClock& clock) const;
   // Writes `c` (the driver's part filled in) with sim's state lent to it, after `sync` has put

@@ -118,7 +118,6 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   const Progress::Mode mode = progress_mode(progress);
   const double log_interval = mode == Progress::Mode::log ? progress_log_interval() : 0.0;
-  checkpoints.prepare_folder(sc);
   StopSignals stop_signals;
   try {
     if (from) {

@@ -89,11 +89,4 @@ std::string LawTable::without_rates() const {
   return "";
 }
 
-bool LawTable::uniform() const {
-  for (const auto& l : laws)
-    if (l.normal.index() != laws.front().normal.index() || l.tangential.index() != laws.front().tangential.index())
-      return false;
-  return true;
-}
-
 }  // namespace tsubu

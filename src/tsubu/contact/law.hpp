@@ -165,8 +165,6 @@ struct LawTable {
   int n_materials = 0;
   std::vector<PairLaw> laws;
   const PairLaw& at(int a, int b) const { return laws[static_cast<std::size_t>(a * n_materials + b)]; }
-  // True when all laws use the same pair of model types.
-  bool uniform() const;
   // True when some law's normal model corrects positions (models P, F).
   bool corrects_positions() const;
   // The label of a normal model in the table that has no rates (block steps cannot run it),

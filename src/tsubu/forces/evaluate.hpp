@@ -193,11 +193,11 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const auto a = state.at(c.i), b = state.at(c.j);
     const Vec3 d = world.domain.separation(a.x, b.x);
     const double reach = p.radius[c.i] + p.radius[c.j];
+    c.touching = norm2(d) < reach * reach;
     if constexpr (kRates) {
-      const double dist = norm(d);
-      c.touching = dist < reach;
       if (!c.touching) {
         // The rate channel of a pair apart: no force, and the step bound of its approach.
+        const double dist = norm(d);
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
         const Vec3 n = d / dist;
@@ -211,7 +211,6 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
         });
       }
     } else {
-      c.touching = norm2(d) < reach * reach;
       const double keep = c.touching;
       c.history.xi *= keep;
       c.history.normal[0] *= keep, c.history.normal[1] *= keep;

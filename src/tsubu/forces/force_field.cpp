@@ -11,34 +11,6 @@
 
 namespace tsubu {
 
-namespace {
-
-// Runs kernel(k, normal_model, tangential_model) for contacts k = 0..n-1 in parallel.
-// With one pair of model types for the whole table the dispatch happens once, outside the
-// loop; otherwise once per contact through a jump table (never a virtual call).
-template <class LawOf, class Kernel>
-void for_each_contact(const LawTable& laws, std::size_t n, LawOf law_of, Kernel kernel) {
-  if (laws.uniform()) {
-    std::visit(
-        [&](const auto& n0, const auto& t0) {
-          using N = std::decay_t<decltype(n0)>;
-          using T = std::decay_t<decltype(t0)>;
-          parallel_for(n, [&](std::size_t k) {
-            const PairLaw& law = law_of(k);
-            kernel(k, *std::get_if<N>(&law.normal), *std::get_if<T>(&law.tangential));
-          });
-        },
-        laws.laws.front().normal, laws.laws.front().tangential);
-  } else {
-    parallel_for(n, [&](std::size_t k) {
-      const PairLaw& law = law_of(k);
-      std::visit([&](const auto& nm, const auto& tm) { kernel(k, nm, tm); }, law.normal, law.tangential);
-    });
-  }
-}
-
-}  // namespace
-
 void ForceField::Results::resize(std::size_t n, bool shifts) {
   entry.resize(n);
   shift_i.resize(shifts ? n : 0);  // cleared by the evaluations, entry by entry
@@ -194,8 +166,10 @@ void ForceField::evaluate_walls(World& world) {
   auto law_of = [&](std::size_t k) -> const PairLaw& {
     return model_->laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
   };
-  for_each_contact(model_->laws, contacts.size(), law_of, [&](std::size_t k, const auto& normal, const auto& tangential) {
-    evaluate_wall(world, state, k, normal, tangential, nullptr);
+  parallel_for(contacts.size(), [&](std::size_t k) {
+    visit_law<double>(law_of(k), [&](const auto& normal, const auto& tangential) {
+      evaluate_wall(world, state, k, normal, tangential, nullptr);
+    });
   });
 }
 
