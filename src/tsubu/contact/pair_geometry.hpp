@@ -54,7 +54,7 @@ BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj
 // Particle (radius r, mass m) touching a plane with unit normal n at distance `dist` of its
 // centre; v_rel is the particle's velocity relative to the plane's.
 template <class T>
-BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist, const Vector<T>& v_rel_centre,
+[[gnu::always_inline]] inline BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist, const Vector<T>& v_rel_centre,
                                       const Vector<T>& w) {
   BasicContactGeometry<T> g;
   g.n = n;

@@ -51,9 +51,10 @@ struct PredictedState {
   double step(std::size_t i) const { return kin.since(kin.time[i]); }
 };
 
-// A position or distance on the number type: on Dual it carries its rate.
+// A position or distance on the number type: on Dual it carries its rate (on double it is x
+// itself, not a copy).
 template <class T>
-Vector<T> with_rate(const Vec3& x, const Vec3& rate) {
+decltype(auto) with_rate(const Vec3& x, const Vec3& rate) {
   if constexpr (std::is_same_v<T, double>) return x;
   else return DualVec3(x, rate);
 }
@@ -116,8 +117,10 @@ using Slot = std::conditional_t<std::is_same_v<T, double>, double, DualSlot>;
 // the block's laws is a vector loop: each iteration reads and writes its own lane only.
 template <std::size_t N, class T>
 struct Lanes {
+  // Fixed steps advance every contact by the one dt, block steps each by its own.
+  static constexpr bool kOneStep = std::is_same_v<T, double>;
   Slot<T> n[3][N], delta[N], v_n[N], v_t[3][N];                  // BasicContactGeometry
-  double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[N];
+  double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[kOneStep ? 1 : N];
   double xi[3][N], normal[2][N];                                 // ContactHistory
   Slot<T> total[3][N], tangential[3][N];                         // the law's force on i
   double energy[N], gap_shift[N];                                // ContactForce
@@ -129,10 +132,10 @@ struct Lanes {
   void set_geometry(std::size_t b, const BasicContactGeometry<T>& g, double step) {
     put(n, b, g.n), put(v_t, b, g.v_t);
     delta[b] = g.delta, v_n[b] = g.v_n, r_eff[b] = g.r_eff, m_eff[b] = g.m_eff, d_mean[b] = g.d_mean, d_small[b] = g.d_small;
-    dt[b] = step;
+    dt[kOneStep ? 0 : b] = step;
   }
   BasicContactGeometry<T> geometry(std::size_t b) const {
-    return {get(n, b), T(delta[b]), T(v_n[b]), get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt[b]};
+    return {get(n, b), T(delta[b]), T(v_n[b]), get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt[kOneStep ? 0 : b]};
   }
   void set_history(std::size_t b, const ContactHistory& h) {
     xi[0][b] = h.xi.x, xi[1][b] = h.xi.y, xi[2][b] = h.xi.z, normal[0][b] = h.normal[0], normal[1][b] = h.normal[1];
@@ -228,7 +231,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   for (std::size_t b = 0; b < m; ++b) {
     const Contact& c = contacts[touching[b]];
     const auto mi = state.at(c.i), mj = state.at(c.j);
-    const Vector<T> d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
+    const auto& d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
     lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
                        state.step(c.i, c.j));
     lanes.set_history(b, c.law_history());
