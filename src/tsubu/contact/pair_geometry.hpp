@@ -54,8 +54,8 @@ BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj
 // Particle (radius r, mass m) touching a plane with unit normal n at distance `dist` of its
 // centre; v_rel is the particle's velocity relative to the plane's.
 template <class T>
-[[gnu::always_inline]] inline BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist, const Vector<T>& v_rel_centre,
-                                      const Vector<T>& w) {
+[[gnu::always_inline]] inline BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist,
+                                                                    const Vector<T>& v_rel_centre, const Vector<T>& w) {
   BasicContactGeometry<T> g;
   g.n = n;
   g.delta = T(r) - dist;

@@ -196,11 +196,12 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const auto a = state.at(c.i), b = state.at(c.j);
     const Vec3 d = world.domain.separation(a.x, b.x);
     const double reach = p.radius[c.i] + p.radius[c.j];
-    c.touching = norm2(d) < reach * reach;
+    const double dist2 = norm2(d);
+    c.touching = dist2 < reach * reach;
     if constexpr (kRates) {
       if (!c.touching) {
         // The rate channel of a pair apart: no force, and the step bound of its approach.
-        const double dist = norm(d);
+        const double dist = std::sqrt(dist2);
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
         const Vec3 n = d / dist;
@@ -264,6 +265,15 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
       pair_results_.shift_j[k] = (-shift / p.mass[c.j]) * n;
     }
   }
+}
+
+template <class State>
+void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, const ContactStepRules* rules) {
+  const Contact& c = world.contacts.walls()[k];
+  visit_law<typename State::Number>(model_->laws.at(world.particles.material[c.i], world.walls[c.j].material),
+                                    [&](const auto& normal, const auto& tangential) {
+                                      evaluate_wall(world, state, k, normal, tangential, rules);
+                                    });
 }
 
 template <class State, class Normal, class Tangential>

@@ -163,14 +163,7 @@ void ForceField::evaluate_walls(World& world) {
   const auto& contacts = world.contacts.walls();
   wall_results_.resize(contacts.size(), shifts_);
   const CurrentState state{p, world.dt};
-  auto law_of = [&](std::size_t k) -> const PairLaw& {
-    return model_->laws.at(p.material[contacts[k].i], world.walls[contacts[k].j].material);
-  };
-  parallel_for(contacts.size(), [&](std::size_t k) {
-    visit_law<double>(law_of(k), [&](const auto& normal, const auto& tangential) {
-      evaluate_wall(world, state, k, normal, tangential, nullptr);
-    });
-  });
+  parallel_for(contacts.size(), [&](std::size_t k) { evaluate_wall(world, state, k, nullptr); });
 }
 
 void ForceField::accumulate(World& world, double fluid_lead) {

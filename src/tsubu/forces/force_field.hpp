@@ -215,6 +215,10 @@ class ForceField {
   template <class State, class Entries>
   void evaluate_pair_block(World& world, const State& state, const Entries& entries, const PairLaw* shared,
                            const ContactStepRules* rules);
+  // Wall contact k under its law (the grain's material against the wall's), on the State's
+  // number type.
+  template <class State>
+  void evaluate_wall(World& world, const State& state, std::size_t k, const ContactStepRules* rules);
   template <class State, class Normal, class Tangential>
   void evaluate_wall(World& world, const State& state, std::size_t k, const Normal& normal, const Tangential& tangential,
                      const ContactStepRules* rules);

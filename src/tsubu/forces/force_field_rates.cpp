@@ -35,9 +35,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     std::size_t m = 0;
     contacts.for_each_contact_of(active[q], [&](std::uint32_t k, int side) {
       if (side == 0) {
-        const Contact& c = walls[k];
-        visit_law<Dual>(model_->laws.at(p.material[c.i], world.walls[c.j].material),
-                        [&](const auto& n, const auto& t) { evaluate_wall(world, state, k, n, t, &rules); });
+        evaluate_wall(world, state, k, &rules);
       } else if (side > 0 || !is_active[pairs[k].i]) {
         block[m++] = k;
         if (m == kBlock) evaluate_pair_block(world, state, ListIndices{block, m}, pair_law_, &rules), m = 0;
