@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string_view>
 #include <vector>
 
 #include "tsubu/contact/pair_geometry.hpp"
@@ -291,6 +292,39 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
     if (c.touching) EXPECT_EQ(s.level[c.i], s.level[c.j]) << "partners in touch share a level";
   for (const Contact& c : sim.world().contacts.walls())
     if (c.touching) EXPECT_GE(s.level[c.i], 6) << "a grain on the floor takes contact steps";
+}
+
+// The level a bound needs: the coarsest whose step dt/2^k is not above it; a bound that
+// underflowed to zero, or is NaN, needs a level beyond any run's, never the coarsest.
+TEST(BlockHermite, LevelNeededIsTheCoarsestNotAboveTheBound) {
+  EXPECT_EQ(level_needed(1e-3, 2e-3), 0);
+  EXPECT_EQ(level_needed(1e-3, 1e-3), 0);
+  EXPECT_EQ(level_needed(1e-3, 0.5e-3), 1);
+  EXPECT_EQ(level_needed(1e-3, 0.3e-3), 2);
+  EXPECT_EQ(level_needed(1e-3, 1e-300), 987);        // ceil(log2(1e297))
+  EXPECT_EQ(level_needed(1e-3, 1e-320), kBeyondLevels);  // dt/bound overflows
+  EXPECT_EQ(level_needed(1e-3, 0.0), kBeyondLevels);
+  EXPECT_EQ(level_needed(1e-3, -1.0), kBeyondLevels);
+  EXPECT_EQ(level_needed(1e-3, std::nan("")), kBeyondLevels);
+}
+
+// Step-rule values so small (or u_floor so large) that a contact's step bound underflows
+// put the grains in touch on the finest level, as any too-small bound does.
+TEST(BlockHermite, StepRulesThatUnderflowGiveTheFinestLevel) {
+  for (const char* rule : {"kappa_c", "eta_damping", "u_floor"}) {
+    Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+    auto& [w, model] = b;
+    w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
+    w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0.499e-3}, {});
+    w.particles.add(1, 0, 1e-3, 2650, {0.9995e-3, 0, 0.4995e-3}, {});
+    BlockStepRules rules;
+    rules.levels = 8;
+    if (rule == std::string_view("kappa_c")) rules.kappa_c = 1e-320;
+    if (rule == std::string_view("eta_damping")) rules.eta_damping = 1e-320;
+    if (rule == std::string_view("u_floor")) rules.u_floor = 1e300;
+    const Simulation sim = run(std::move(b), rules, 0);
+    for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(sim.block()->state().level[i], 8) << rule << ": grain " << i;
+  }
 }
 
 // Central difference of the force along x(t) = x0 + v t + a t^2/2, spin w(t) = w0 + alpha t,

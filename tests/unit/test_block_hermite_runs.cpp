@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "scenario_run.hpp"
+#include "tsubu/app/simulation_state.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "world_builder.hpp"
 
@@ -16,6 +17,7 @@ namespace {
 
 using testing::make_world;
 using testing::spec_of;
+using testing::test_scenario;
 
 // A 1 mm grain dropped from 10 um above a floor (impact 1.4 cm/s): no friction, no damping
 // (e = 1), no fluid. Both laws are made soft enough for a contact time of about 0.5 ms
@@ -122,6 +124,29 @@ TEST(BlockHermiteRuns, CellAndMultilevelSearchGiveIdenticalBits) {
   for (const Contact& c : cell.contacts.pairs()) touching += c.touching;
   EXPECT_GT(touching, 20u) << "grains must touch";
   expect_same_run(cell, multi);
+}
+
+// The contact records (forces, overlaps, elastic energy: what the contact network frames,
+// the series and Python's contacts() read) follow their contacts through every new list:
+// the lists built when inflow grains enter, at the end of a step, once left every contact
+// but the new grains' with a zero force until its next evaluation.
+TEST(BlockHermiteRuns, ContactRecordsSurviveTheEntryOfInflowGrains) {
+  Simulation sim = new_simulation(test_scenario("rain_small.toml"));
+  sim.start();
+  int entries_among_contacts = 0;
+  while (sim.world().step < 200) {
+    const std::size_t before = sim.world().particles.size();
+    sim.step();
+    const std::vector<ContactRecord> records = sim.forces().touching_contacts(sim.world());
+    if (records.empty()) continue;
+    entries_among_contacts += sim.world().particles.size() > before;
+    std::size_t without_force = 0;
+    for (const ContactRecord& r : records) without_force += !(r.overlap > 0 && norm(r.normal_force) > 0);
+    ASSERT_EQ(without_force, 0u) << "step " << sim.world().step << ": of " << records.size()
+                                 << " touching contacts, these have no force";
+    EXPECT_GT(sim.forces().totals(sim.world()).elastic_energy, 0);
+  }
+  EXPECT_GT(entries_among_contacts, 10) << "grains must enter while others touch";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/sim/simulation.hpp"
 #include "tsubu_process.hpp"
 #include "world_builder.hpp"
 
@@ -35,6 +36,32 @@ TEST(Diagnostics, AFailureBeforeTheFirstStepBlamesTheInputNotDt) {
   EXPECT_NE(why.find("step 0,"), std::string::npos) << why;
   EXPECT_NE(why.find("the initial state, before any time step"), std::string::npos) << why;
   EXPECT_EQ(why.find("dt/4"), std::string::npos) << why;
+}
+
+// A failure inside the first step is not the initial state's: it names the step under way
+// (fixed steps) or the block time (block steps), and blames the step, not the input. Two
+// soft grains meet at 2 m/s within the first millisecond.
+TEST(Diagnostics, AFailureInsideTheFirstStepIsNotBlamedOnTheInput) {
+  for (Integrator integrator : {Integrator::velocity_verlet, Integrator::block_hermite}) {
+    auto [w, model] = make_world(kGlass, spec_of("hertz_tsuji", "mindlin", 0.5), 1e-3);
+    w.particles.add(0, 0, 0.002, kGlass.density, {0, 0, 0}, {1, 0, 0});
+    w.particles.add(1, 0, 0.002, kGlass.density, {0.0022, 0, 0}, {-1, 0, 0});
+    BlockStepRules rules;
+    rules.levels = 2, rules.kappa_c = 50;  // steps far too long for the contact
+    Simulation sim(std::move(w), std::move(model), integrator, rules);
+    const std::string why = failure_of([&] {
+      sim.start();
+      sim.step();
+    });
+    EXPECT_EQ(why.find("initial state"), std::string::npos) << why;
+    if (integrator == Integrator::block_hermite) {
+      EXPECT_NE(why.find("step 1, block time "), std::string::npos) << why;
+      EXPECT_NE(why.find("tighten [simulation.block_steps]"), std::string::npos) << why;
+    } else {
+      EXPECT_NE(why.find("step 1, t = 0.001 s:"), std::string::npos) << why;
+      EXPECT_NE(why.find("try dt/4"), std::string::npos) << why;
+    }
+  }
 }
 
 // energy_conserving_2005's range is named only when that model made the force non-finite.

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/time_scales.hpp"
 #include "tsubu/source/build_world.hpp"
@@ -139,6 +140,19 @@ TEST(TimeScales, BlockStepsNeedALevelFineEnoughForTheStiffestContact) {
   ASSERT_EQ(few.warnings.size(), 1u);
   EXPECT_NE(few.warnings[0].find("needs level " + std::to_string(level) + ", beyond levels = 3"), std::string::npos)
       << few.warnings[0];
+}
+
+// A step rule's value so small that the finest step it asks for underflows needs a level
+// beyond any: a warning, never a level taken from an undefined conversion.
+TEST(TimeScales, AStepRuleThatUnderflowsIsAWarning) {
+  const std::string scenario = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "block_sediment.toml").string();
+  const Scenario sc = load_scenario(scenario, {"simulation.block_steps.kappa_c=1e-320"});
+  const TimeScales ts = time_scales(sc, build_world(sc));
+  EXPECT_EQ(ts.needed_level, kBeyondLevels);
+  EXPECT_FALSE(ts.safe);
+  ASSERT_EQ(ts.warnings.size(), 1u);
+  EXPECT_NE(ts.warnings[0].find("no dt can resolve"), std::string::npos) << ts.warnings[0];
+  EXPECT_EQ(ts.suggestion.find("-2147483648"), std::string::npos) << ts.suggestion;
 }
 
 // `tsubu check` prints the time scales, the suggestion, the steps and a timed estimate; a

@@ -17,6 +17,24 @@ void ForceField::Results::resize(std::size_t n, bool shifts) {
   shift_j.resize(shifts ? n : 0);
 }
 
+void ForceField::Results::follow(const std::vector<std::uint32_t>& origin) {
+  ContactList::follow(entry, origin);
+  ContactList::follow(shift_i, origin);
+  ContactList::follow(shift_j, origin);
+}
+
+void ForceField::follow_lists(const ContactList& contacts) {
+  pair_results_.follow(contacts.pair_origin());
+  wall_results_.follow(contacts.wall_origin());
+  ContactList::follow(pair_rates_, contacts.pair_origin());
+  ContactList::follow(wall_rates_, contacts.wall_origin());
+}
+
+void ForceField::renumbered(const World& world) {
+  follow_lists(world.contacts);
+  built_at_.clear();
+}
+
 void ForceField::admit_new_particles(Particles& p) {
   for (std::size_t i = admitted_; i < p.size(); ++i) p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * p.radius[i]);
   admitted_ = p.size();
@@ -35,6 +53,7 @@ void ForceField::compute(World& world, double fluid_lead) {
     });
   }
   accumulate(world, fluid_lead);
+  started_ = true;
 }
 
 bool ForceField::needs_rebuild(const World& world) const {
@@ -64,7 +83,7 @@ double ForceField::skin_of(const World& world) const {
 void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = skin_of(world);
-  build_lists(world, p, skin_);
+  build_lists(world, p, skin_, false);
   built_at_ = p.position;
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
@@ -77,15 +96,15 @@ void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, co
   probe.position = positions;
   probe.radius.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) probe.radius[i] = p.radius[i] + reach[i];
-  build_lists(world, probe, skin_);
+  build_lists(world, probe, skin_, true);
   built_at_.clear();  // compute() would rebuild: block steps decide when lists are stale
 }
 
-void ForceField::build_lists(World& world, const Particles& probe, double margin) {
-  // Peak memory: the per-contact results and the contact index are remade after a build, so
-  // they are freed before it, and the old lists and the search's candidates after it.
-  pair_results_ = {}, wall_results_ = {};
-  pair_rates_ = {}, wall_rates_ = {};
+void ForceField::build_lists(World& world, const Particles& probe, double margin, bool keep_records) {
+  // Peak memory: the contact index is remade after a build, and so are the per-contact
+  // records unless kept, so they are freed before it, and the old lists and the search's
+  // candidates after it.
+  if (!keep_records) pair_results_ = {}, wall_results_ = {}, pair_rates_ = {}, wall_rates_ = {};
   ContactList& contacts = world.contacts;
   contacts.release_index();
   grid_.configure(model_->search);
@@ -95,6 +114,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   find_wall_contacts(world, probe, margin, candidates);
   contacts.carry_walls(candidates);
   contacts.index(world.particles);
+  if (keep_records) follow_lists(contacts);
   build_crowd_list(world, probe, margin, candidates);
   pair_law_ = nullptr;  // the law every listed pair shares: grains all of one material
   const std::vector<int>& material = world.particles.material;
@@ -269,8 +289,13 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
   };
   scan(world.contacts.pairs(), pair_results_, false);
   scan(world.contacts.walls(), wall_results_, true);
+  // Before the first evaluation succeeded the state is the one the run started from. A fixed
+  // step evaluates at its end (the clock has advanced); a block step at its block time
+  // (world.time), within the step under way (the counter advances after its last block time).
+  const bool initial = !started_;
   std::ostringstream msg;
-  msg << "step " << world.step << ", t = " << world.time << " s: ";
+  if (block_steps && !initial) msg << "step " << world.step + 1 << ", block time " << world.time << " s: ";
+  else msg << "step " << world.step << ", t = " << world.time << " s: ";
   std::string model;      // the normal model of the worst contact
   std::string_view hint;  // what a non-finite force of it means
   if (worst) {
@@ -288,7 +313,7 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
   if (!std::isfinite(ratio)) msg << " (a non-finite force" << (hint.empty() ? "" : ": ") << hint << ")";
   msg << " (limit " << model_->overlap_limit << ", simulation.overlap_limit); ";
   // Before the first step the cause is the input, whatever dt is.
-  if (world.step == 0)
+  if (initial && world.step == 0)
     msg << "this is the initial state, before any time step: the input places particles too deep in each other or "
            "in a wall (check their positions and diameters, and the walls; dt is not the cause)";
   else if (block_steps)

@@ -123,9 +123,9 @@ class ForceField {
     body.torque = fl.torque;
     return body;
   }
-  // The world's particles were renumbered (sort_spatially): the lists are rebuilt at the
-  // next evaluation.
-  void renumbered() { built_at_.clear(); }
+  // The world's particles were renumbered (sort_spatially): the contact records follow
+  // their contacts; the lists are rebuilt at the next evaluation.
+  void renumbered(const World& world);
   double skin() const { return skin_; }
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;
@@ -167,6 +167,8 @@ class ForceField {
     std::vector<Entry> entry;
     std::vector<Vec3> shift_i, shift_j;
     void resize(std::size_t n, bool shifts);
+    // Each entry follows its contact into new lists (ContactList::follow).
+    void follow(const std::vector<std::uint32_t>& origin);
     void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e) { entry[k] = {f, n_x_f_t, overlap, e}; }
     // Torque on a particle of radius r from contact k (the lever arm ends mid-overlap).
     Vec3 torque(std::size_t k, double r) const { return -(r - 0.5 * entry[k].delta) * entry[k].n_x_ft; }
@@ -197,12 +199,16 @@ class ForceField {
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
+  bool started_ = false;  // an evaluation has succeeded: the run has left its initial state
 
   bool needs_rebuild(const World& world) const;
   void rebuild(World& world);
   // The lists from `probe` (positions and radii, grown by each particle's reach) and the
-  // margin; histories carried over.
-  void build_lists(World& world, const Particles& probe, double margin);
+  // margin; histories carried over, and with keep_records the contact records and rates too
+  // (block steps: a contact keeps the results of its last evaluation until its particles
+  // are next active; fixed steps evaluate every contact after a build).
+  void build_lists(World& world, const Particles& probe, double margin, bool keep_records);
+  void follow_lists(const ContactList& contacts);
   void find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out);
   // The crowd list from the same probe (each ball's reach added to the probe radii).
   void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);

@@ -85,6 +85,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
   if (!(max_ratio <= model_->overlap_limit)) report_overlap(world, true);
+  started_ = true;
 }
 
 void ForceField::dashpot_response(const World& world, const std::vector<std::uint32_t>& active,

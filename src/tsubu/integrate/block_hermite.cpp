@@ -53,12 +53,15 @@ Predictor BlockHermite::predictor(const World& world, std::int64_t now) const {
                    now, tick(world)};
 }
 
+int level_needed(double dt, double bound) {
+  if (bound >= dt) return 0;
+  const double k = std::ceil(std::log2(dt / bound));
+  return k < kBeyondLevels ? static_cast<int>(k) : kBeyondLevels;  // a NaN compares false
+}
+
 int BlockHermite::level_for(double bound, const World& world) const {
   if (rules_.force_level >= 0) return rules_.force_level;
-  if (!(bound < world.dt)) return 0;
-  // The coarsest level whose step dt/2^k is not above the bound.
-  const int k = static_cast<int>(std::ceil(std::log2(world.dt / bound)));
-  return std::clamp(k, 0, rules_.levels);
+  return std::min(level_needed(world.dt, bound), rules_.levels);
 }
 
 void BlockHermite::set_level(std::uint32_t i, int level) {

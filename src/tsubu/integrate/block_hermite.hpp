@@ -29,6 +29,12 @@ struct BlockStepRules {
   double list_horizon = 4;  // a moving grain's neighbour list reaches this many dt ahead
 };
 
+// The coarsest level k whose step dt/2^k is not above `bound` (0 for a bound of dt or more).
+// A bound that is zero or NaN (a step rule's value so small that the bound underflowed)
+// needs kBeyondLevels, finer than any run's levels: such a grain takes the finest level.
+constexpr int kBeyondLevels = 2100;  // above log2 of the ratio of any two positive doubles
+int level_needed(double dt, double bound);
+
 // What the stepper did, for run.json and the series.
 struct BlockStepStats {
   std::uint64_t block_times = 0;

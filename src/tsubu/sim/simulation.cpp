@@ -38,7 +38,7 @@ bool Simulation::sort_due() const {
 void Simulation::renumber() {
   forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
   const std::vector<std::uint32_t> order = sort_spatially(world_);  // order[new] = old
-  forces_.renumbered();
+  forces_.renumbered(world_);
   if (block_) block_->renumber(order);
 }
 

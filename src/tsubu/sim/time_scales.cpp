@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/build_world.hpp"
 
@@ -119,24 +120,32 @@ void judge_dt(const Scenario& sc, TimeScales& ts) {
     // dt is the longest step; a contact's step is kappa_c t_c, a grain's in the fluid
     // eta_tau tau; each must be reachable by halving dt at most `levels` times.
     const BlockStepRules& r = sc.block_steps;
-    auto level_for = [&](double bound) { return bound >= dt ? 0 : static_cast<int>(std::ceil(std::log2(dt / bound))); };
     double finest = INFINITY;
     std::string what;
     if (contacts) finest = r.kappa_c * ts.shortest_contact, what = "kappa_c t_c = " + fmt(r.kappa_c) + " x " + fmt(ts.shortest_contact) + " s";
     if (fluid && r.eta_tau * ts.shortest_relaxation < finest)
       finest = r.eta_tau * ts.shortest_relaxation, what = "eta_tau tau = " + fmt(r.eta_tau) + " x " + fmt(ts.shortest_relaxation) + " s";
-    ts.needed_level = std::isfinite(finest) ? level_for(finest) : 0;
+    ts.needed_level = std::isfinite(finest) ? level_needed(dt, finest) : 0;
     ts.suggested_dt = std::isfinite(finest) ? std::ldexp(finest, r.levels) : dt;
     ts.safe = ts.needed_level <= r.levels;
-    ts.suggestion = std::isfinite(finest) ? "the finest step needed is " + what + " = " + fmt(finest) + " s: level " +
-                                                std::to_string(ts.needed_level) + " of " + std::to_string(r.levels) +
-                                                " (dt/2^" + std::to_string(ts.needed_level) + " = " +
-                                                fmt(std::ldexp(dt, -ts.needed_level)) + " s); dt may be up to 2^" +
-                                                std::to_string(r.levels) + " times that"
-                                          : "no contact or fluid bounds the steps";
-    if (!ts.safe)
+    // A step rule's value so small that the step underflows needs no level a run can have.
+    const std::string level = ts.needed_level < kBeyondLevels ? "level " + std::to_string(ts.needed_level)
+                                                              : "a finer level than any (a step rule's value is too small)";
+    if (!std::isfinite(finest))
+      ts.suggestion = "no contact or fluid bounds the steps";
+    else if (ts.needed_level < kBeyondLevels)
+      ts.suggestion = "the finest step needed is " + what + " = " + fmt(finest) + " s: " + level + " of " +
+                      std::to_string(r.levels) + " (dt/2^" + std::to_string(ts.needed_level) + " = " +
+                      fmt(std::ldexp(dt, -ts.needed_level)) + " s); dt may be up to 2^" + std::to_string(r.levels) +
+                      " times that";
+    else
+      ts.suggestion = "the finest step needed is " + what + " = " + fmt(finest) + " s: " + level;
+    if (ts.needed_level >= kBeyondLevels)
+      ts.warnings.push_back("no dt can resolve the stiffest contact or the drag: " + what + " = " + fmt(finest) +
+                            " s needs " + level + "; raise the value in simulation.block_steps");
+    else if (!ts.safe)
       ts.warnings.push_back("dt = " + fmt(dt) + " s cannot resolve the stiffest contact or the drag: " + what + " = " +
-                            fmt(finest) + " s needs level " + std::to_string(ts.needed_level) + ", beyond levels = " +
+                            fmt(finest) + " s needs " + level + ", beyond levels = " +
                             std::to_string(r.levels) + " (finest step dt/2^" + std::to_string(r.levels) + " = " +
                             fmt(std::ldexp(dt, -r.levels)) + " s); lower dt to " + fmt(ts.suggested_dt) +
                             " s or raise simulation.block_steps.levels");

@@ -1,6 +1,7 @@
 #include "tsubu/world/contact_list.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace tsubu {
 
@@ -20,8 +21,10 @@ void count_starts(const std::vector<Contact>& contacts, std::size_t n, Particle 
 }  // namespace
 
 // Both lists sorted by (i, j): one merge pass.
-std::vector<Contact> ContactList::carry(const std::vector<Pair>& found, const std::vector<Contact>& old) {
+std::vector<Contact> ContactList::carry(const std::vector<Pair>& found, const std::vector<Contact>& old,
+                                       std::vector<std::uint32_t>& origin) {
   std::vector<Contact> out(found.size());
+  origin.assign(found.size(), kNew);
   std::size_t o = 0;
   for (std::size_t k = 0; k < found.size(); ++k) {
     const Pair& f = found[k];
@@ -31,6 +34,7 @@ std::vector<Contact> ContactList::carry(const std::vector<Pair>& found, const st
     if (o < old.size() && old[o].i == f.i && old[o].j == f.j) {
       out[k].touching = old[o].touching;  // as of the last evaluation
       out[k].history = old[o].history;
+      origin[k] = static_cast<std::uint32_t>(o);
     }
   }
   return out;
@@ -39,6 +43,8 @@ std::vector<Contact> ContactList::carry(const std::vector<Pair>& found, const st
 void ContactList::assign(std::vector<Contact> pairs, std::vector<Contact> walls, const Particles& p) {
   pairs_ = std::move(pairs);
   walls_ = std::move(walls);
+  pair_origin_.assign(pairs_.size(), kNew);
+  wall_origin_.assign(walls_.size(), kNew);
   index(p);
 }
 
@@ -48,9 +54,18 @@ void ContactList::renumber(const std::vector<std::uint32_t>& new_index, const Pa
     if (c.i > c.j) std::swap(c.i, c.j);  // the history, stored by id, stays as it is
   }
   for (Contact& c : walls_) c.i = new_index[c.i];
-  std::sort(pairs_.begin(), pairs_.end(), by_pair);
-  std::sort(walls_.begin(), walls_.end(), by_pair);
+  sort_by_pair(pairs_, pair_origin_);
+  sort_by_pair(walls_, wall_origin_);
   index(p);
+}
+
+void ContactList::sort_by_pair(std::vector<Contact>& list, std::vector<std::uint32_t>& origin) {
+  origin.resize(list.size());
+  std::iota(origin.begin(), origin.end(), 0u);
+  std::sort(origin.begin(), origin.end(), [&](std::uint32_t a, std::uint32_t b) { return by_pair(list[a], list[b]); });
+  std::vector<Contact> sorted(list.size());
+  for (std::size_t k = 0; k < list.size(); ++k) sorted[k] = list[origin[k]];
+  list = std::move(sorted);
 }
 
 void ContactList::index(const Particles& p) {

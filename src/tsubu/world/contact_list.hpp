@@ -83,8 +83,8 @@ class ContactList {
 
   // New lists from a search (`found` sorted by (i, j)): each entry carries the touching flag
   // and history of the same pair in the old list, or starts empty. Call index() after both.
-  void carry_pairs(const std::vector<Pair>& found) { pairs_ = carry(found, pairs_); }
-  void carry_walls(const std::vector<Pair>& found) { walls_ = carry(found, walls_); }
+  void carry_pairs(const std::vector<Pair>& found) { pairs_ = carry(found, pairs_, pair_origin_); }
+  void carry_walls(const std::vector<Pair>& found) { walls_ = carry(found, walls_, wall_origin_); }
   // Lists from elsewhere (a checkpoint, a test; histories stored by id, sorted by (i, j)),
   // indexed over the particles p.
   void assign(std::vector<Contact> pairs, std::vector<Contact> walls, const Particles& p);
@@ -92,6 +92,24 @@ class ContactList {
   // new order): the entries follow their particles and are sorted by (i, j) again. No
   // history changes.
   void renumber(const std::vector<std::uint32_t>& new_index, const Particles& p);
+
+  // Where each entry was in the lists before their last change (carry_*, renumber, assign):
+  // its index there, or kNew. Stores kept per entry elsewhere (the force field's contact
+  // records) follow their entries with follow().
+  static constexpr std::uint32_t kNew = UINT32_MAX;
+  const std::vector<std::uint32_t>& pair_origin() const { return pair_origin_; }
+  const std::vector<std::uint32_t>& wall_origin() const { return wall_origin_; }
+  // store[k] = the old store's entry at origin[k], or T{} for an entry new to the lists; an
+  // empty store stays empty.
+  template <class T>
+  static void follow(std::vector<T>& store, const std::vector<std::uint32_t>& origin) {
+    if (store.empty()) return;
+    std::vector<T> old;
+    old.swap(store);
+    store.resize(origin.size());
+    for (std::size_t k = 0; k < origin.size(); ++k)
+      if (origin[k] < old.size()) store[k] = old[origin[k]];
+  }
 
   // The per-particle index over the particles p, and each pair's turn (Contact::turned),
   // after the lists changed; release_index() frees the index (before a search, to lower the
@@ -116,13 +134,17 @@ class ContactList {
 
  private:
   std::vector<Contact> pairs_, walls_;
+  std::vector<std::uint32_t> pair_origin_, wall_origin_;
   // The lists are sorted by (i, j), so the pairs where particle i is the first are the range
   // [first_start_[i], first_start_[i+1]), and those where it is the second, which all come
   // before them, are second_index_[second_start_[i] .. second_start_[i+1]). Its walls:
   // [wall_start_[i], wall_start_[i+1]).
   std::vector<std::uint32_t> first_start_, second_start_, second_index_, wall_start_;
 
-  static std::vector<Contact> carry(const std::vector<Pair>& found, const std::vector<Contact>& old);
+  static std::vector<Contact> carry(const std::vector<Pair>& found, const std::vector<Contact>& old,
+                                    std::vector<std::uint32_t>& origin);
+  // The entries sorted by (i, j) again after their indices changed, with their origins.
+  static void sort_by_pair(std::vector<Contact>& list, std::vector<std::uint32_t>& origin);
 };
 
 }  // namespace tsubu
