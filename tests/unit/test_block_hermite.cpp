@@ -294,6 +294,27 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
     if (c.touching) EXPECT_GE(s.level[c.i], 6) << "a grain on the floor takes contact steps";
 }
 
+// A floor that starts rising at 0.2 m/s under a grain 7.8 um above it (from the start, or
+// within the grain's first step) carries the grain up at its speed, as velocity Verlet does.
+// The steps chosen while the floor stood still once straddled the moment it started, the
+// floor met the grain inside them, and the grain left at 11 to 99 m/s: a change of a wall's
+// motion ends the steps of the grains that list it, and the gap rule sees the velocity the
+// wall keeps from then on.
+TEST(BlockHermite, AWallThatStartsMovingCarriesAGrainInsteadOfFlingingIt) {
+  for (double starts : {0.0, 5e-4, 1.3e-3}) {
+    Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+    auto& [w, model] = b;
+    std::vector<WallMotion> motion = {{1.0, {0, 0, 0.2}}};
+    if (starts > 0) motion.insert(motion.begin(), {starts, {}});
+    w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, motion, {}});
+    w.particles.add(0, 0, 1e-3, 2650, {0, 0, 0.5078e-3}, {});
+    const Simulation sim = run(std::move(b), BlockStepRules{}, 10);
+    const Particles& p = sim.world().particles;
+    EXPECT_NEAR(p.velocity[0].z, 0.2, 1e-3) << "floor starting at " << starts << " s";
+    EXPECT_NEAR(p.position[0].z, 0.2 * (0.01 - starts) + 0.5e-3, 1e-6) << "floor starting at " << starts << " s";
+  }
+}
+
 // The level a bound needs: the coarsest whose step dt/2^k is not above it; a bound that
 // underflowed to zero, or is NaN, needs a level beyond any run's, never the coarsest.
 TEST(BlockHermite, LevelNeededIsTheCoarsestNotAboveTheBound) {

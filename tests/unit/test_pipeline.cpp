@@ -51,7 +51,7 @@ void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(S
   ForceField block_field(model);
   std::vector<Vec3> predicted(n);
   for (std::size_t i = 0; i < n; ++i) predicted[i] = kin.at(i).x;
-  block_field.rebuild_at(block, predicted, std::vector<double>(n, 0.0));
+  block_field.rebuild_at(block, predicted, std::vector<double>(n, 0.0), {});
   std::vector<std::uint32_t> active(n);
   for (std::size_t i = 0; i < n; ++i) active[i] = static_cast<std::uint32_t>(i);
   EvaluationRates rates;
@@ -120,7 +120,7 @@ TEST(Pipeline, BlockStepsRefuseALawWithoutRates) {
   w.particles.add(0, 0, 0.002, 2500, {0, 0, 0}, {});
   w.particles.add(1, 0, 0.002, 2500, {0.0019, 0, 0}, {});
   ForceField field(model);
-  field.rebuild_at(w, w.particles.position, {0, 0});
+  field.rebuild_at(w, w.particles.position, {0, 0}, {});
   const std::vector<std::int64_t> time(2, 0);
   const std::vector<Vec3> zero(2);
   const Predictor kin{w.particles, w.domain, time, zero, zero, zero, zero, 1, 1e-6};

@@ -83,24 +83,26 @@ double ForceField::skin_of(const World& world) const {
 void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = skin_of(world);
-  build_lists(world, p, skin_, false);
+  build_lists(world, p, skin_, {}, false);
   built_at_ = p.position;
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
 }
 
-void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach) {
+void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach,
+                            const std::vector<double>& wall_reach) {
   const Particles& p = world.particles;
   skin_ = skin_of(world);
   Particles probe;
   probe.position = positions;
   probe.radius.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) probe.radius[i] = p.radius[i] + reach[i];
-  build_lists(world, probe, skin_, true);
+  build_lists(world, probe, skin_, wall_reach, true);
   built_at_.clear();  // compute() would rebuild: block steps decide when lists are stale
 }
 
-void ForceField::build_lists(World& world, const Particles& probe, double margin, bool keep_records) {
+void ForceField::build_lists(World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
+                             bool keep_records) {
   // Peak memory: the contact index is remade after a build, and so are the per-contact
   // records unless kept, so they are freed before it, and the old lists and the search's
   // candidates after it.
@@ -111,7 +113,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   std::vector<Pair> candidates;
   grid_.find_pairs(probe, world.domain, margin, candidates);
   contacts.carry_pairs(candidates);
-  find_wall_contacts(world, probe, margin, candidates);
+  find_wall_contacts(world, probe, margin, wall_reach, candidates);
   contacts.carry_walls(candidates);
   contacts.index(world.particles);
   if (keep_records) follow_lists(contacts);
@@ -146,7 +148,8 @@ void ForceField::build_crowd_list(World& world, const Particles& probe, double m
   crowding_.resize(p.size());
 }
 
-void ForceField::find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out) {
+void ForceField::find_wall_contacts(const World& world, const Particles& probe, double margin,
+                                    const std::vector<double>& wall_reach, std::vector<Pair>& out) {
   out.clear();
   if (world.walls.empty()) return;
   std::vector<std::vector<Pair>> wall_hits;
@@ -155,7 +158,8 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
         // Centres in front of the plane (see evaluate_wall) and within the margin of touching.
         const double dist = world.walls[w].distance(probe.position[i]);
-        if (dist < probe.radius[i] + margin && dist > -margin)
+        const double reach = wall_reach.empty() ? 0.0 : wall_reach[w];
+        if (dist < probe.radius[i] + margin + reach && dist > -margin)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
       }
   });

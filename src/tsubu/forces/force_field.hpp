@@ -96,9 +96,11 @@ class ForceField {
   void dashpot_response(const World& world, const std::vector<std::uint32_t>& active, const std::vector<Vec3>& dv,
                         const std::vector<Vec3>& dw, std::vector<Vec3>& df, std::vector<Vec3>& dtorque) const;
   // Block steps: new lists from the given positions, each particle i listed with everything
-  // within skin + reach[i] (+ reach of the partner) of touching; valid while each particle
-  // stays within reach[i] + skin/2 of its position here.
-  void rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach);
+  // within skin + reach[i] (+ reach of the partner, or wall_reach of a wall) of touching;
+  // valid while each particle stays within reach[i] + skin/2 of its position here and each
+  // wall within wall_reach + skin/2 of its place now.
+  void rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach,
+                  const std::vector<double>& wall_reach);
   // The particles appended to `p` since the last call (every particle at the first call) get
   // their translational mass m + C_M rho_f V, the inertia the integrators divide forces by
   // (Particles::translational_mass; Fluid::added_mass_of): the one place it is set. compute()
@@ -207,9 +209,12 @@ class ForceField {
   // margin; histories carried over, and with keep_records the contact records and rates too
   // (block steps: a contact keeps the results of its last evaluation until its particles
   // are next active; fixed steps evaluate every contact after a build).
-  void build_lists(World& world, const Particles& probe, double margin, bool keep_records);
+  void build_lists(World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
+                   bool keep_records);
   void follow_lists(const ContactList& contacts);
-  void find_wall_contacts(const World& world, const Particles& probe, double margin, std::vector<Pair>& out);
+  // wall_reach: per wall, added to the margin (empty: none).
+  void find_wall_contacts(const World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
+                          std::vector<Pair>& out);
   // The crowd list from the same probe (each ball's reach added to the probe radii).
   void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);
   // The one contact evaluation (forces/evaluate.hpp), on the number type of `State`: a fixed

@@ -102,6 +102,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   is_active_.assign(n, 1);
   active_.resize(n);
   std::iota(active_.begin(), active_.end(), 0u);
+  walls_at(world, now);
   rebuild_lists(world, forces, now);
   // Twice: the first gives the accelerations that the rates of damping and drag need.
   std::vector<int> contacts_before(world.particles.contact_count);
@@ -152,6 +153,7 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
     fresh.push_back(static_cast<std::uint32_t>(i));
     is_active_[i] = 1;
   }
+  walls_at(world, now);
   rebuild_lists(world, forces, now);
   forces.compute_active(world, predictor(world, now), fresh, is_active_,
                         contact_rules(), rates_);
@@ -159,7 +161,8 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
     take_state(world, forces, i);
     const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]),
                                    rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
-                                                                         norm(p.velocity[i]), forces.crowding(i))});
+                                                                         norm(p.velocity[i]), forces.crowding(i)),
+                                   until_wall_event(world, i, now)});
     set_level(i, level_for(bound, world));
     ++stats_.evaluations[state_.level[i]];
     is_active_[i] = 0;
@@ -178,7 +181,7 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
   index_levels();
   list_positions_ = std::move(list_positions);
   list_reach_ = std::move(list_reach);
-  forces.rebuild_at(world, list_positions_, list_reach_);  // the lists the run had
+  forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));  // the lists the run had
   list_skin_ = forces.skin();
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
@@ -201,11 +204,39 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
     // skin), at most one own diameter: a falling grain keeps its list for several dt.
     list_reach_[i] = std::clamp(norm(k.v) * horizon + 0.5 * norm(k.a) * horizon * horizon, skin, 2 * p.radius[i]);
   });
-  forces.rebuild_at(world, list_positions_, list_reach_);
+  forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));
   list_skin_ = forces.skin();
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
   lists_stale_ = false;
+}
+
+std::vector<double> BlockHermite::wall_reach(const World& world) const {
+  // How far a wall can travel in the list horizon: a grain it could reach before the lists
+  // are next checked is listed, so that its gap rule sees the wall coming.
+  std::vector<double> reach;
+  for (const Wall& w : world.walls) reach.push_back(w.top_speed() * rules_.list_horizon * world.dt);
+  return reach;
+}
+
+void BlockHermite::walls_at(World& world, std::int64_t t) const {
+  // The velocity of the stretch that begins at or holds t: the one the walls keep over the
+  // steps that start at t (no step straddles a change, see until_wall_event), which the
+  // contacts' forces and gap rules at t take.
+  for (Wall& w : world.walls)
+    if (!w.motion.empty()) w.velocity = w.velocity_at(static_cast<double>(t) * tick(world));
+}
+
+double BlockHermite::until_wall_event(const World& world, std::uint32_t i, std::int64_t t) const {
+  // A change of a listed wall's motion ends the particle's step: a step chosen while the
+  // floor stood still, and straddling the moment it starts to rise, met the floor inside the
+  // step (a grain 7.8 um above it flung off at 11 m/s).
+  const double now = static_cast<double>(t) * tick(world);
+  double until = kNever;
+  world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
+    if (side == 0) until = std::min(until, world.walls[world.contacts.walls()[k].j].next_change(now) - now);
+  });
+  return until;
 }
 
 double BlockHermite::list_limit(std::uint32_t i) const {
@@ -374,7 +405,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
       const std::uint32_t i = active_[q];
       const Vec3 x = p.position[i], v = p.velocity[i];
       std::ostringstream msg;
-      msg << "step " << world.step << " (block time " << world.time << " s, level " << int(state_.level[i])
+      msg << "step " << world.step + 1 << " (block time " << world.time << " s, level " << int(state_.level[i])
           << "): particle id " << p.id[i] << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", "
           << x.z << ") m, v = (" << v.x << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the step"
           << " rules too loose for this problem ([simulation.block_steps])";
@@ -423,6 +454,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     // has not listed yet).
     const double room = list_limit(i) - moved_since_list(world, i, p.position[i]);
     bound = std::min(bound, time_to_close(std::max(room, 0.0), norm(p.velocity[i]), norm(state_.acc[i])));
+    bound = std::min(bound, until_wall_event(world, i, t));
     // The second-order estimate after a grain's first touch from free flight (a force whose
     // rate is singular at the onset, as Tsuji's dashpot, needs short steps there) and after
     // its last contact ended (Aarseth's criterion restarts). Not when a grain already in
@@ -480,6 +512,7 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     const std::int64_t h = step_ticks(finest);
     const std::int64_t t = now - now % h + h;
     for (Wall& w : world.walls) w.advance(static_cast<double>(now) * dt_tick, static_cast<double>(t - now) * dt_tick);
+    walls_at(world, t);
     world.time = static_cast<double>(t) * dt_tick;
     for (std::size_t w = 0; w < world.walls.size() && !lists_stale_; ++w)
       lists_stale_ = norm2(world.walls[w].point - walls_built_at_[w]) > 0.25 * forces.skin() * forces.skin();

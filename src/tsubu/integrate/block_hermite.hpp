@@ -108,6 +108,12 @@ class BlockHermite {
                      const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
+  // Moving walls: how far each can travel in the list horizon; their velocities for the
+  // steps from block time t (ticks); the time from t to the next change of motion of a wall
+  // listed for particle i, s.
+  std::vector<double> wall_reach(const World& world) const;
+  void walls_at(World& world, std::int64_t t) const;
+  double until_wall_event(const World& world, std::uint32_t i, std::int64_t t) const;
   // How far particle i may move from where its list was built before the list misses a
   // neighbour, and how far it has moved when at x.
   double list_limit(std::uint32_t i) const;

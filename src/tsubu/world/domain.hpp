@@ -1,7 +1,9 @@
 // The simulation box: bounds and periodic axes, with the minimum-image convention.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -68,6 +70,19 @@ struct Wall {
     for (const WallMotion& m : motion)
       if (t < m.until) return m.velocity;
     return {};
+  }
+  // When the velocity next changes after t (the end of the stretch that holds t), s; infinite
+  // when it never changes again.
+  double next_change(double t) const {
+    for (const WallMotion& m : motion)
+      if (t < m.until) return m.until;
+    return std::numeric_limits<double>::infinity();
+  }
+  // The largest speed of its motion, m/s.
+  double top_speed() const {
+    double v = 0;
+    for (const WallMotion& m : motion) v = std::max(v, norm(m.velocity));
+    return v;
   }
 
   // Moves the plane over the step [t, t + dt].
