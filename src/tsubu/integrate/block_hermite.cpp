@@ -53,6 +53,28 @@ Predictor BlockHermite::predictor(const World& world, std::int64_t now) const {
                    now, tick(world)};
 }
 
+Predictor BlockHermite::predictor_cached(const World& world, std::int64_t now) const {
+  Predictor kin = predictor(world, now);
+  kin.cached = predicted_.data(), kin.cached_at = predicted_at_.data();
+  return kin;
+}
+
+void BlockHermite::predict_around(const World& world, std::int64_t t, std::size_t from) {
+  const std::size_t n = world.particles.size();
+  predicted_.resize(n);
+  predicted_at_.resize(n, -1);
+  to_predict_.clear();
+  auto claim = [&](std::uint32_t i) {
+    if (predicted_at_[i] != t) predicted_at_[i] = t, to_predict_.push_back(i);
+  };
+  for (std::size_t q = from; q < active_.size(); ++q) {
+    claim(active_[q]);
+    world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t) { claim(j); });
+  }
+  const Predictor kin = predictor(world, t);  // not the cached one: its entries are claimed, not yet made
+  parallel_for(to_predict_.size(), [&](std::size_t q) { predicted_[to_predict_[q]] = kin.at(to_predict_[q]); });
+}
+
 int level_needed(double dt, double bound) {
   if (bound >= dt) return 0;
   const double k = std::ceil(std::log2(dt / bound));
@@ -281,7 +303,7 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
   //   never saw i. Evaluated now, it picks a step from the gap; without this, the contact
   //   began inside j's long step, whose corrector spread the new force over the whole step
   //   (a 1 mm grain on a 0.5 ms step flung off at 3.5 m/s, the pair then 109 % overlapped).
-  const Predictor kin = predictor(world, t);
+  const Predictor kin = predictor_cached(world, t);
   const Particles& p = world.particles;
   const ContactList& contacts = world.contacts;
   const double dt_tick = tick(world);
@@ -321,7 +343,7 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
 }
 
 void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
-  forces.compute_active(world, predictor(world, t), active_, is_active_, contact_rules(),
+  forces.compute_active(world, predictor_cached(world, t), active_, is_active_, contact_rules(),
                         rates_);
   for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
 }
@@ -340,7 +362,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   // a2 = 2 (a1 - a0 - j0 h) / h^2, a3 = 0); j1 is kept for the next step, which the
   // second-order rule after a contact event makes short.
   Particles& p = world.particles;
-  const Predictor kin = predictor(world, t);
+  const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);
   std::vector<char> lost(active_.size(), 0);
   predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size());
@@ -496,6 +518,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
 
 void BlockHermite::renumber(const std::vector<std::uint32_t>& order) {
   state_.for_each_array([&](auto& a) { permute(a, order); });
+  predicted_at_.assign(order.size(), -1);
   index_levels();
   lists_stale_ = true;
 }
@@ -520,7 +543,10 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     const Predictor kin = predictor(world, t);
     for (std::size_t q = 0; q < active_.size() && !lists_stale_; ++q) lists_stale_ = list_outrun(world, kin, active_[q]);
     if (lists_stale_) rebuild_lists(world, forces, t);
+    predict_around(world, t, 0);
+    const std::size_t due = active_.size();
     wake(world, t);
+    predict_around(world, t, due);  // the woken particles' partners
     contacts_before.resize(active_.size());
     for (std::size_t q = 0; q < active_.size(); ++q) contacts_before[q] = world.particles.contact_count[active_[q]];
     evaluate(world, forces, t);

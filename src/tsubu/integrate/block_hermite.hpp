@@ -85,6 +85,9 @@ class BlockHermite {
   // correct_dashpots' scratch: the predicted accelerations of the active particles, and per
   // particle (zero outside the active set) the corrections and the responses to them.
   std::vector<Vec3> predicted_acc_, predicted_alpha_, change_v_, change_w_, change_f_, change_t_;
+  std::vector<Kinematics> predicted_;        // predict_around's, per particle
+  std::vector<std::int64_t> predicted_at_;   // the block time of each, -1 for none
+  std::vector<std::uint32_t> to_predict_;    // predict_around's scratch
   std::vector<Vec3> list_positions_;  // where the lists were built (positions predicted to then)
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
@@ -92,6 +95,11 @@ class BlockHermite {
   std::vector<Vec3> walls_built_at_;
 
   double tick(const World& world) const;
+  // The Predictor of block time `now`, reading the predictions predict_around() made then.
+  Predictor predictor_cached(const World& world, std::int64_t now) const;
+  // Predicts at t, once each, the active particles from active_[from] on and their listed
+  // partners: the evaluation, the waking and the corrector read each many times.
+  void predict_around(const World& world, std::int64_t t, std::size_t from);
   void size_scratch(std::size_t n);  // the per-particle scratch arrays for n particles
   std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
   Predictor predictor(const World& world, std::int64_t now) const;

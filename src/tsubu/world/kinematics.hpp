@@ -33,11 +33,16 @@ struct Predictor {
   const std::vector<Vec3>& alpha_dot;
   std::int64_t now = 0;  // ticks
   double tick = 0;       // s
+  // Predictions already made at `now` (the stepper's, each particle predicted once per block
+  // time): entry i holds particle i's when cached_at[i] == now. Null: none.
+  const Kinematics* cached = nullptr;
+  const std::int64_t* cached_at = nullptr;
 
   // Seconds from tick t to now.
   double since(std::int64_t t) const { return static_cast<double>(now - t) * tick; }
 
   Kinematics at(std::size_t i) const {
+    if (cached && cached_at[i] == now) return cached[i];
     const double tau = since(time[i]);
     const Vec3 &a = acc[i], &j = jerk[i], &al = alpha[i], &ad = alpha_dot[i];
     Kinematics k;
