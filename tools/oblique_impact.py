@@ -138,12 +138,16 @@ checkpoint_every_seconds = 0
 
 
 def run(args, folder, text):
-    """Runs one scenario; returns (state of sphere 0 at the end, run.json, out folder)."""
+    """Runs one scenario: (state of sphere 0 at the end, run.json, out folder), or None when
+    tsubu stops it with a numerical failure (exit code 3; its message is kept in args.failures)."""
     path = folder / "scenario.toml"
     path.write_text(text)
     out = folder / "out"
     result = subprocess.run([args.tsubu, "run", str(path), "--out", str(out), "--overwrite"],
                             capture_output=True, text=True)
+    if result.returncode == 3:
+        args.failures.append(text + "\n# " + (result.stderr or result.stdout).strip())
+        return None
     if result.returncode != 0:
         sys.exit(f"{args.tsubu} run {path} failed ({result.returncode}):\n{result.stderr}{result.stdout}")
     with open(out / "track.csv") as f:
@@ -160,11 +164,15 @@ def contact_time(series_path, dt):
         return sum(1 for row in csv.DictReader(f) if float(row["contacts"]) > 0) * dt
 
 
-def errors(state, ref):
-    """Relative errors of the rebound spin and of the tangential and normal rebound velocity."""
+def compare(outcome, ref, n_particles):
+    """(spin, tangential, normal) relative errors of the rebound against the reference and the
+    evaluations per particle; None for a run that failed."""
+    if outcome is None:
+        return None
+    state, info, _ = outcome
     def rel(key):
         return abs(state[key] - ref[key]) / abs(ref[key]) if ref[key] != 0 else math.inf
-    return rel("wy"), rel("vx"), rel("vz")
+    return rel("wy"), rel("vx"), rel("vz"), info["particle_force_evaluations"] / n_particles
 
 
 def measure(args, case, folder):
@@ -176,16 +184,18 @@ def measure(args, case, folder):
     (folder / "grains.csv").write_text(particles_csv(args, geometry, ratio, gap))
 
     dt_ref = t_est / args.ref_steps
-    ref, _, out = run(args, folder, scenario(args, case, "velocity_verlet", dt_ref, duration, True))
+    outcome = run(args, folder, scenario(args, case, "velocity_verlet", dt_ref, duration, True))
+    if outcome is None:
+        sys.exit(f"the reference run of {case} failed:\n{args.failures[-1]}")
+    ref, _, out = outcome
     t_c = contact_time(out / "series.csv", dt_ref)
     results = {"t_c": t_c, "wy": ref["wy"], "vx": ref["vx"], "vz": ref["vz"]}
     for n in args.vv_steps:
-        state, info, _ = run(args, folder, scenario(args, case, "velocity_verlet", t_c / n, duration))
-        results[f"vv{n}"] = errors(state, ref) + (info["particle_force_evaluations"] / n_particles,)
+        outcome = run(args, folder, scenario(args, case, "velocity_verlet", t_c / n, duration))
+        results[f"vv{n}"] = compare(outcome, ref, n_particles)
     for kappa in args.kappas:
-        text = scenario(args, case, "block_hermite", duration / 4, duration, kappa_c=kappa)
-        state, info, _ = run(args, folder, text)
-        results[f"bh{kappa}"] = errors(state, ref) + (info["particle_force_evaluations"] / n_particles,)
+        text = scenario(args, case, "block_hermite", duration / args.bh_dt, duration, kappa_c=kappa)
+        results[f"bh{kappa}"] = compare(run(args, folder, text), ref, n_particles)
     return results
 
 
@@ -209,18 +219,21 @@ def main():
     parser.add_argument("--ref-steps", type=int, default=4000, help="reference steps per (estimated) contact")
     parser.add_argument("--vv-steps", default=",".join(map(str, VV_STEPS)), help="velocity Verlet steps per t_c")
     parser.add_argument("--kappas", default=",".join(map(str, KAPPAS)), help="block steps' kappa_c")
+    parser.add_argument("--bh-dt", type=int, default=4, help="block steps: dt (the longest step) is the run / this")
     parser.add_argument("--csv", help="write every result to this file")
+    parser.add_argument("--failures", help="write the scenarios of failed runs (with the message) to this file")
     parser.add_argument("--keep", help="keep the scenarios and outputs of the last case in this folder")
     args = parser.parse_args()
     args.vv_steps = [int(n) for n in args.vv_steps.split(",") if n]
     args.kappas = [float(k) for k in args.kappas.split(",") if k]
+    args.failures_file, args.failures = args.failures, []
 
     cases = [(g, n, t, float(r)) for g in args.geometries.split(",") for n in args.normals.split(",")
              for t in args.tangentials.split(",") for r in args.ratios.split(",")]
     methods = [f"vv{n}" for n in args.vv_steps] + [f"bh{k}" for k in args.kappas]
     labels = {f"vv{n}": f"VV {n}/t_c" for n in args.vv_steps} | {f"bh{k}": f"BH kappa_c {k}" for k in args.kappas}
     print(f"friction {args.friction}, poisson {args.poisson}, u_n {args.speed} m/s; spin error % per method "
-          f"({', '.join(labels[m] for m in methods)})")
+          f"({', '.join(labels[m] for m in methods)}); FAIL: stopped with a numerical failure")
     start = time.monotonic()
     table = []
     with tempfile.TemporaryDirectory(prefix="oblique_") as tmp:
@@ -229,21 +242,24 @@ def main():
             table.append((case, res))
             print(f"{case[0]:4} {case[1]:14} {case[2]:14} {case[3]:5}  t_c {res['t_c']:.3e} s  "
                   f"w_ref R/u_t {res['wy'] * DIAMETER / 2 / (case[3] * args.speed):+.3f}  spin err %: "
-                  + " ".join(f"{100 * res[m][0]:7.3f}" for m in methods), flush=True)
+                  + " ".join("   FAIL" if res[m] is None else f"{100 * res[m][0]:7.3f}" for m in methods),
+                  flush=True)
         if args.keep:
             shutil.copytree(tmp, args.keep, dirs_exist_ok=True)
 
     print(f"\nworst over {len(cases)} cases ({time.monotonic() - start:.0f} s):")
-    print("| method | spin | tangential v | normal v | evaluations per particle (range) | worst spin case |")
-    print("|---|---|---|---|---|---|")
+    print("| method | spin | tangential v | normal v | evaluations per particle | worst spin case | failed runs |")
+    print("|---|---|---|---|---|---|---|")
     for m in methods:
-        worst = max(table, key=lambda cr: cr[1][m][0])
-        worst_t = max(cr[1][m][1] for cr in table)
-        worst_n = max(cr[1][m][2] for cr in table)
-        evals = [cr[1][m][3] for cr in table]
-        case = worst[0]
-        print(f"| {labels[m]} | {100 * worst[1][m][0]:.2f} % | {100 * worst_t:.2f} % | {100 * worst_n:.2f} % | "
-              f"{min(evals):.0f}-{max(evals):.0f} | {case[0]} {case[1]} {case[2]} ratio {case[3]} |")
+        done = [(case, res[m]) for case, res in table if res[m] is not None]
+        if not done:
+            print(f"| {labels[m]} | – | – | – | – | – | {len(table)} |")
+            continue
+        case, worst = max(done, key=lambda cr: cr[1][0])
+        evals = [r[3] for _, r in done]
+        print(f"| {labels[m]} | {100 * worst[0]:.2f} % | {100 * max(r[1] for _, r in done):.2f} % | "
+              f"{100 * max(r[2] for _, r in done):.2f} % | {min(evals):.0f}-{max(evals):.0f} | "
+              f"{case[0]} {case[1]} {case[2]} ratio {case[3]} | {len(table) - len(done)} |")
 
     if args.csv:
         with open(args.csv, "w", newline="") as f:
@@ -253,7 +269,12 @@ def main():
             for case, res in table:
                 for m in methods:
                     w.writerow(list(case) + [args.friction, args.poisson, res["t_c"], res["wy"], res["vx"],
-                                             res["vz"], labels[m]] + list(res[m]))
+                                             res["vz"], labels[m]] + list(res[m] or ["fail"] * 4))
+    if args.failures_file and args.failures:
+        pathlib.Path(args.failures_file).write_text("\n\n".join(args.failures) + "\n")
+    if args.failures:
+        print(f"{len(args.failures)} runs stopped with a numerical failure"
+              + (f" (scenarios in {args.failures_file})" if args.failures_file else " (--failures FILE keeps them)"))
 
 
 if __name__ == "__main__":

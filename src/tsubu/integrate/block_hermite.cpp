@@ -315,11 +315,12 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
       if (is_active_[j]) return;
       const Kinematics kj = kin.at(j);
       const Vec3 d = world.domain.separation(ki.x, kj.x);
-      const double reach = p.radius[i] + p.radius[j], dist = norm(d);
+      const double reach = p.radius[i] + p.radius[j];
       char why = 0;
-      if (dist < reach) {
+      if (norm2(d) < reach * reach) {  // the evaluation's touching test
         why = 2;
       } else if (state_.level[j] < state_.level[i]) {
+        const double dist = norm(d);
         const Vec3 n = d / dist;
         const double closes = time_to_close(dist - reach, -dot(ki.v - kj.v, n), -dot(ki.a - kj.a, n));
         const std::int64_t ends = state_.time[j] + step_ticks(state_.level[j]);
