@@ -377,8 +377,21 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     const bool contact_event = contacts_before[q] != p.contact_count[i];
     auto corrector = [&](const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, Vec3& a2, Vec3& a3) {
       if (contact_event && norm(j1 - j0) * h > kJerkTrust * norm(a1 - a0)) {
-        a2 = 2.0 * (a1 - a0 - h * j0) / (h * h);
-        a3 = {};
+        if (contacts_before[q] < p.contact_count[i]) {  // a contact began: j1 is the singular rate
+          a2 = 2.0 * (a1 - a0 - h * j0) / (h * h);
+          a3 = {};
+          return;
+        }
+        // A contact ended: j0, at the step's start, was the singular rate (Tsuji's dashpot
+        // near release), and fitting it flung a bouncing grain off 10 % too fast. The fit
+        // is a0, a1 and j1: a(tau) = a0 + b tau + c tau^2. The predictor has already spent
+        // j0, so a2 and a3 are chosen to give the quadratic's velocity and position at h:
+        // dv = (b - j0) h^2/2 + c h^3/3, dx = (b - j0) h^3/6 + c h^4/12.
+        const Vec3 b = 2.0 * (a1 - a0) / h - j1, c = (h * j1 - (a1 - a0)) / (h * h);
+        const Vec3 dv = (h2 / 2.0) * (b - j0) + (h3 / 3.0) * c, dx = (h3 / 6.0) * (b - j0) + (h4 / 12.0) * c;
+        const Vec3 a2h3 = (120.0 / h) * dx - 24.0 * dv;  // from a2 h^3/6 + a3 h^4/24 = dv and
+        a2 = a2h3 / h3;                                    // a2 h^4/24 + a3 h^5/120 = dx
+        a3 = (24.0 * dv - 4.0 * a2h3) / h4;
         return;
       }
       a2 = (-6.0 * (a0 - a1) - h * (4.0 * j0 + 2.0 * j1)) / (h * h);
