@@ -31,7 +31,7 @@ void ForceField::follow_lists(const ContactList& contacts) {
 }
 
 void ForceField::renumbered(const World& world) {
-  follow_lists(world.contacts);
+  if (keeps_records_) follow_lists(world.contacts);  // fixed steps' records are remade at the rebuild
   built_at_.clear();
 }
 
@@ -106,6 +106,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   // Peak memory: the contact index is remade after a build, and so are the per-contact
   // records unless kept, so they are freed before it, and the old lists and the search's
   // candidates after it.
+  keeps_records_ = keep_records;
   if (!keep_records) pair_results_ = {}, wall_results_ = {}, pair_rates_ = {}, wall_rates_ = {};
   ContactList& contacts = world.contacts;
   contacts.release_index();

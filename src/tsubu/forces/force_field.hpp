@@ -202,6 +202,7 @@ class ForceField {
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
   bool started_ = false;  // an evaluation has succeeded: the run has left its initial state
+  bool keeps_records_ = false;  // the lists' records outlive a list change (block steps' builds)
 
   bool needs_rebuild(const World& world) const;
   void rebuild(World& world);

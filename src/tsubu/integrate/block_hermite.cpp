@@ -255,8 +255,8 @@ double BlockHermite::until_wall_event(const World& world, std::uint32_t i, std::
   // step (a grain 7.8 um above it flung off at 11 m/s).
   const double now = static_cast<double>(t) * tick(world);
   double until = kNever;
-  world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
-    if (side == 0) until = std::min(until, world.walls[world.contacts.walls()[k].j].next_change(now) - now);
+  world.contacts.for_each_wall_of(i, [&](std::uint32_t w, std::uint32_t) {
+    until = std::min(until, world.walls[w].next_change(now) - now);
   });
   return until;
 }
@@ -359,9 +359,10 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   // gave x a jump ~ j1 h^3 deep into the wall (Chung & Ooi test 3 at 10 dt). Where the jerk
   // changed far more than the accelerations allow for a smooth force (|j1 - j0| h >
   // kJerkTrust |a1 - a0|; a contact beginning late in a step gives ratios up to ~30, the
-  // singular rate ~1e10), the corrector fits a0, j0 and a1 only (a quadratic in time:
-  // a2 = 2 (a1 - a0 - j0 h) / h^2, a3 = 0); j1 is kept for the next step, which the
-  // second-order rule after a contact event makes short.
+  // singular rate ~1e10), the corrector fits a quadratic in time that leaves out the
+  // singular end's jerk: a0, j0 and a1 when a contact began (a2 = 2 (a1 - a0 - j0 h) / h^2,
+  // a3 = 0), a0, a1 and j1 when one ended (see below); j1 is kept for the next step, which
+  // the second-order rule after a contact event makes short.
   Particles& p = world.particles;
   const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);

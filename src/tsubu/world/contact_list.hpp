@@ -123,6 +123,11 @@ class ContactList {
     for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) f(pairs_[second_index_[s]].i, second_index_[s]);
     for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(pairs_[k].j, k);
   }
+  // f(wall, k) for every listed wall contact k of particle i.
+  template <class F>
+  void for_each_wall_of(std::size_t i, F&& f) const {
+    for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) f(walls_[k].j, k);
+  }
   // visit(k, side) for particle i's entries in the gather's order: pairs where i is second
   // (side -1), pairs where it is first (+1), walls (0); each group in ascending k.
   template <class Visit>
