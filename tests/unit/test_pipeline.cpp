@@ -55,7 +55,7 @@ void expect_same_evaluations(const std::vector<std::string>& law, void (*edit)(S
   std::vector<std::uint32_t> active(n);
   for (std::size_t i = 0; i < n; ++i) active[i] = static_cast<std::uint32_t>(i);
   EvaluationRates rates;
-  rates.force.resize(n), rates.torque.resize(n), rates.step_bound.resize(n);
+  rates.resize(n);
   block_field.compute_active(block, kin, active, std::vector<char>(n, 1), ContactStepRules{1, 1, 1, 0}, rates);
 
   ASSERT_EQ(fixed.contacts.pairs().size(), block.contacts.pairs().size());
@@ -125,7 +125,7 @@ TEST(Pipeline, BlockStepsRefuseALawWithoutRates) {
   const std::vector<Vec3> zero(2);
   const Predictor kin{w.particles, w.domain, time, zero, zero, zero, zero, 1, 1e-6};
   EvaluationRates rates;
-  rates.force.resize(2), rates.torque.resize(2), rates.step_bound.resize(2);
+  rates.resize(2);
   try {
     field.compute_active(w, kin, {0, 1}, {1, 1}, ContactStepRules{1, 1, 1, 0}, rates);
     ADD_FAILURE() << "no error";

@@ -103,6 +103,14 @@ double contact_step(const Normal& normal, const ContactStepRules& rules, double 
   return collision_longer_than(normal, m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
 }
 
+// How long ago a contact that is found touching, and was not at its last evaluation, began:
+// its overlap over its rate of overlap (the approach speed at touch, less what the contact
+// has braked since: within a few per cent over one contact step). 0 when not approaching.
+inline double onset_age(Dual delta) { return delta.d > 0 ? delta.v / delta.d : 0.0; }
+// How long after its last evaluation a contact that was touching then, and is not now, ended:
+// its overlap then over its rate of separation then. 0 when it was not separating.
+inline double release_delay(double delta, double delta_rate) { return delta > 0 && delta_rate < 0 ? -delta / delta_rate : 0.0; }
+
 // One scalar of the number type in a lane: a Dual as its two doubles, left uninitialised like
 // a double (a lane is written before it is read).
 struct DualSlot {
@@ -188,6 +196,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   // history and results cleared (fixed steps: every entry's result is cleared and its history
   // kept only if it touches, without a branch on touching, which is unpredictable).
   std::uint32_t touching[kBlock];
+  bool was_touching[kBlock];  // at the contact's last evaluation
   Vec3 separation[kBlock];
   std::size_t m = 0;
   for (std::size_t e = 0; e < entries.size(); ++e) {
@@ -197,11 +206,13 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const Vec3 d = world.domain.separation(a.x, b.x);
     const double reach = p.radius[c.i] + p.radius[c.j];
     const double dist2 = norm2(d);
+    if constexpr (kRates) was_touching[m] = c.touching;
     c.touching = dist2 < reach * reach;
     if constexpr (kRates) {
       if (!c.touching) {
         // The rate channel of a pair apart: no force, and the step bound of its approach.
         const double dist = std::sqrt(dist2);
+        const double released = was_touching[m] ? release_delay(pair_results_.entry[k].delta, pair_rates_[k].delta) : 0;
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
         const Vec3 n = d / dist;
@@ -211,7 +222,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
           pair_rates_[k] = {{}, {}, 0,
                             contact_step(normal, *rules, m_eff, r_eff, false, -dot(value(a.v) - value(b.v), n), 0,
                                          dist - reach, -dot(rate(a.v) - rate(b.v), n)),
-                            n};
+                            n, 0, 0, 0, released};
         });
       }
     } else {
@@ -257,7 +268,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
       visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
         pair_rates_[k] = {rate(total), rate(n_x_ft), delta.d,
                           contact_step(normal, *rules, lanes.m_eff[b], lanes.r_eff[b], true, -v_n, lanes.stiffness[b], 0, 0),
-                          value(n), lanes.damping[b], lanes.tangential_damping[b]};
+                          value(n), lanes.damping[b], lanes.tangential_damping[b], was_touching[b] ? 0 : onset_age(delta)};
       });
     } else if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
       const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
@@ -291,18 +302,20 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const double dist = wall.distance(a.x);
   // Touching from the front side only: a centre behind the plane has tunnelled through and
   // feels no force from it.
+  const bool was_touching = c.touching;
   c.touching = dist < r && dist > 0;
   if (!c.touching) {
     c.history = {};
-    wall_results_.set(k, {}, {}, 0, 0);
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
+      const double released = was_touching ? release_delay(wall_results_.entry[k].delta, wall_rates_[k].delta) : 0;
       const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -dot(value(v_rel), wall.normal), 0,
                                                    dist - r, -dot(rate(v_rel), wall.normal))
                                     : std::numeric_limits<double>::infinity();
-      wall_rates_[k] = {{}, {}, 0, bound, wall.normal};
+      wall_rates_[k] = {{}, {}, 0, bound, wall.normal, 0, 0, 0, released};
     } else if (shifts_) {
       wall_results_.shift_i[k] = {};
     }
+    wall_results_.set(k, {}, {}, 0, 0);
     return;
   }
   BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], wall.normal, with_rate<T>(dist, dot(value(v_rel), wall.normal)),
@@ -314,7 +327,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   if constexpr (kRates)
     wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
                       contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), wall.normal, f.damping,
-                      f.tangential_damping};
+                      f.tangential_damping, was_touching ? 0 : onset_age(g.delta)};
   else if (shifts_)
     wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
 }

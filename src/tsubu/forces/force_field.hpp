@@ -51,6 +51,16 @@ struct ContactStepRules {
 struct EvaluationRates {
   std::vector<Vec3> force, torque;  // dF/dt (N/s) and dT/dt (N m/s)
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
+  // s: when exactly one contact of the particle began since its last evaluation (and none
+  // ended), how long ago (its overlap over its rate of overlap); when exactly one ended (and
+  // none began), how long after the last evaluation (its overlap then over its rate of
+  // separation then); 0 otherwise. The corrector locates the event inside the step with them
+  // (BlockHermite::correct).
+  std::vector<double> touched_for, released_after;
+
+  void resize(std::size_t n) {
+    force.resize(n), torque.resize(n), step_bound.resize(n), touched_for.resize(n), released_after.resize(n);
+  }
 };
 
 // The body forces on a particle: gravity and the still fluid's (ForceField::body_load).
@@ -183,6 +193,10 @@ class ForceField {
     double step_bound = 0; // s, see ContactStepRules
     Vec3 n;                // unit normal from j to i (dashpot_response)
     double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
+    // A contact that began since its last evaluation: how long ago, delta / (d delta/dt)
+    // (EvaluationRates::touched_for). One that ended: how long after its last evaluation,
+    // from the overlap and its rate then (EvaluationRates::released_after). 0 for every other.
+    double touched_for = 0, released_after = 0;
   };
   const Model* model_;
   std::string without_rates_;  // LawTable::without_rates of the model, found once
@@ -253,6 +267,8 @@ class ForceField {
     Vec3 force_rate, torque_rate;
     double bound = std::numeric_limits<double>::infinity(), damping_over_mass = 0;
     std::uint64_t evaluated = 0;
+    int began = 0, ended = 0;  // contacts that began or ended since their last evaluation
+    double touched_for = 0, released_after = 0;  // s, the Rates' of the last of them
   };
   template <bool WithRates>
   using Gathered = std::conditional_t<WithRates, RateSums, Sums>;  // the fixed steps' sums carry no rates

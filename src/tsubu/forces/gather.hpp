@@ -35,6 +35,8 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
       g.torque_rate += (0.5 * rt.delta) * e.n_x_ft - (r - 0.5 * e.delta) * rt.n_x_ft;
       g.evaluated += e.delta > 0 && (side >= 0 || !(*is_active)[pairs[k].i]);  // once per contact
       g.bound = std::min(g.bound, rt.step_bound);
+      if (rt.touched_for > 0) ++g.began, g.touched_for = rt.touched_for;
+      if (rt.released_after > 0) ++g.ended, g.released_after = rt.released_after;
       if (e.delta > 0) {
         const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[side < 0 ? pairs[k].i : pairs[k].j];
         g.damping_over_mass += rt.damping * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));

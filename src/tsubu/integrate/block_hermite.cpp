@@ -18,9 +18,65 @@ namespace tsubu {
 namespace {
 
 constexpr double kNever = std::numeric_limits<double>::infinity();
-// Over a step with a contact event, j1 is trusted while |j1 - j0| h <= kJerkTrust |a1 - a0|
-// (see BlockHermite::correct).
+// Over a step in which a contact ended, j1 is trusted while |j1 - j0| h <= kJerkTrust |a1 - a0|;
+// over a step without a contact event, both rates while |j1 - j0| h <= kSingularRate times the
+// larger acceleration (see BlockHermite::correct).
 constexpr double kJerkTrust = 100;
+constexpr double kSingularRate = 4;
+
+// The corrector's a2, a3 that give the prediction the correction dv of its velocity and dx of
+// its position at h: from a2 h^3/6 + a3 h^4/24 = dv and a2 h^4/24 + a3 h^5/120 = dx.
+void correction_to_derivatives(const Vec3& dv, const Vec3& dx, double h, Vec3& a2, Vec3& a3) {
+  const double h3 = h * h * h;
+  const Vec3 a2h3 = (120.0 / h) * dx - 24.0 * dv;
+  a2 = a2h3 / h3;
+  a3 = (24.0 * dv - 4.0 * a2h3) / (h3 * h);
+}
+
+// The fits of a step over which the acceleration is not smooth (BlockHermite::correct), each
+// as the a2, a3 of the corrector. Each leaves out what is not a derivative of the force over
+// the step.
+// a0, j0 and a1: a quadratic, for a rate at the step's end that is singular.
+void fit_without_end_rate(const Vec3& a0, const Vec3& j0, const Vec3& a1, double h, Vec3& a2, Vec3& a3) {
+  a2 = 2.0 * (a1 - a0 - h * j0) / (h * h);
+  a3 = {};
+}
+// a0, a1 and j1: a(tau) = a0 + b tau + c tau^2, for a rate at the step's start that is
+// singular. The predictor has already spent j0: the correction is the quadratic's less it,
+// dv = (b - j0) h^2/2 + c h^3/3, dx = (b - j0) h^3/6 + c h^4/12.
+void fit_without_start_rate(const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, double h, Vec3& a2, Vec3& a3) {
+  const double h2 = h * h, h3 = h2 * h;
+  const Vec3 b = 2.0 * (a1 - a0) / h - j1, c = (h * j1 - (a1 - a0)) / h2;
+  correction_to_derivatives((h2 / 2.0) * (b - j0) + (h3 / 3.0) * c, (h3 / 6.0) * (b - j0) + (h3 * h / 12.0) * c, h, a2, a3);
+}
+// A contact that began a time `since` before the step's end: the acceleration is a0 + j0 tau
+// (what the prediction follows) plus, from the touch on, the new contact's A ((tau - t_touch) /
+// since)^q, where A = a1 - a0 - j0 h is its part at the end and the power q in [0, 4] matches
+// its rate there, j1 - j0 (q = 0: a force that sets in at once, as a linear dashpot; 3/2: Hertz;
+// 1/4: Tsuji's dashpot). The correction is A since / (q + 1) in velocity and A since^2 /
+// ((q + 1)(q + 2)) in position.
+void fit_onset(const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, double h, double since, Vec3& a2, Vec3& a3) {
+  const Vec3 part = a1 - a0 - h * j0;
+  const double size2 = norm2(part);
+  const double q = size2 > 0 ? std::clamp(dot(j1 - j0, part) * since / size2, 0.0, 4.0) : 0.0;
+  correction_to_derivatives((since / (q + 1)) * part, (since * since / ((q + 1) * (q + 2))) * part, h, a2, a3);
+}
+// A contact that ended a time `until` after the step's start, the mirror of fit_onset: the
+// acceleration is a1 - j1 (h - tau) (the particle's without the contact, from the step's
+// end) plus, until the release, the contact's C ((until - tau) / until)^q, where C = a0 -
+// a1 + j1 h is its part at the start and q in [0, 4] matches its rate there, j0 - j1 (q = 0:
+// a force that stops at once, as a linear dashpot's pull). The correction is that less what
+// the prediction spent, a0 + j0 tau.
+void fit_release(const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, double h, double until, Vec3& a2, Vec3& a3) {
+  const Vec3 part = a0 - a1 + h * j1;
+  const double size2 = norm2(part);
+  const double q = size2 > 0 ? std::clamp(-dot(j0 - j1, part) * until / size2, 0.0, 4.0) : 0.0;
+  const double h2 = h * h;
+  const Vec3 free_v = h * (a1 - h * j1 - a0) + (h2 / 2.0) * (j1 - j0), free_x = (h2 / 2.0) * (a1 - h * j1 - a0) + (h2 * h / 6.0) * (j1 - j0);
+  const Vec3 dv = free_v + (until / (q + 1)) * part;
+  const Vec3 dx = free_x + (h * until / (q + 1) - until * until / ((q + 1) * (q + 2))) * part;
+  correction_to_derivatives(dv, dx, h, a2, a3);
+}
 
 // Aarseth's criterion from a, its first three derivatives at the step's end. |a| is taken
 // no smaller than `a_floor` (gravity): a grain at terminal speed or at rest has a ~ 0, and
@@ -109,7 +165,7 @@ void BlockHermite::index_levels() {
 }
 
 void BlockHermite::size_scratch(std::size_t n) {
-  rates_.force.resize(n), rates_.torque.resize(n), rates_.step_bound.resize(n);
+  rates_.resize(n);
   for (auto* v : {&change_v_, &change_w_, &change_f_, &change_t_}) v->resize(n);
 }
 
@@ -353,16 +409,24 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   // Spec section 1, corrector: with h = t - t_i,
   //   a2 = (-6 (a0 - a1) - h (4 j0 + 2 j1)) / h^2, a3 = (12 (a0 - a1) + 6 h (j0 + j1)) / h^3,
   //   x = x_p + a2 h^4/24 + a3 h^5/120, v = v_p + a2 h^3/6 + a3 h^4/24; rotation likewise.
-  // Over a step in which a contact began or ended the force is not smooth, and j1 may be no
-  // derivative of it over the step: Tsuji's dashpot (eta ~ delta^1/4) has a rate ~ delta^-3/4,
-  // unbounded at first touch, and a contact found at a block time with delta ~ round-off
-  // gave x a jump ~ j1 h^3 deep into the wall (Chung & Ooi test 3 at 10 dt). Where the jerk
-  // changed far more than the accelerations allow for a smooth force (|j1 - j0| h >
-  // kJerkTrust |a1 - a0|; a contact beginning late in a step gives ratios up to ~30, the
-  // singular rate ~1e10), the corrector fits a quadratic in time that leaves out the
-  // singular end's jerk: a0, j0 and a1 when a contact began (a2 = 2 (a1 - a0 - j0 h) / h^2,
-  // a3 = 0), a0, a1 and j1 when one ended (see below); j1 is kept for the next step, which
-  // the second-order rule after a contact event makes short.
+  // Over a step in which a contact began or ended the force is not smooth, and j0 or j1 may
+  // be no derivative of it over the step: Tsuji's dashpot (eta ~ delta^1/4) has a rate
+  // ~ delta^-3/4, unbounded at first touch and at release, and a linear dashpot's force sets
+  // in at once. The corrector then fits what it knows of the force (the fits above):
+  // - a contact began: the onset is located in the step (EvaluationRates::touched_for) and
+  //   the new contact's force fitted from it on (fit_onset); spreading it over the whole
+  //   step instead erred to first order in the step (Chung & Ooi test 3 at the default rules
+  //   and dt = 5 us: a linear contact with e = 0.3 rebounded with e up to 4.9 % off). When
+  //   the onset is not known (two contacts began), and j1 changed far more than the
+  //   accelerations allow (|j1 - j0| h > kJerkTrust |a1 - a0|), a0, j0 and a1.
+  // - a contact ended, and j1 changed far more than that: a0, a1 and j1, since j0 was the
+  //   singular one (a bouncing grain otherwise left 10 % too fast).
+  // - no contact event, but a rate far beyond what the accelerations allow for a smooth force
+  //   over the step (|j1 - j0| h > kSingularRate max(|a0|, |a1|, g): resolved smooth forces
+  //   give (omega h)^2 << 1): the larger rate is left out. A Tsuji contact about to open
+  //   (delta = 3e-8 m at the step's end) gave j1 ~ 3e13 m/s^3, and the rebound of a grain
+  //   with e = 0.1 came out at 0.04.
+  // j1 is kept for the next step, which the second-order rule after a contact event makes short.
   Particles& p = world.particles;
   const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);
@@ -375,26 +439,18 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     predicted_acc_[q] = pred.a, predicted_alpha_[q] = pred.alpha;
     const double m = p.translational_mass[i], inertia = p.inertia[i];
     const double h2 = h * h, h3 = h2 * h, h4 = h3 * h;
-    const bool contact_event = contacts_before[q] != p.contact_count[i];
+    const bool began = contacts_before[q] < p.contact_count[i], ended = contacts_before[q] > p.contact_count[i];
+    const double since = std::min(rates_.touched_for[i], h);  // 0: the onset is not known
+    const double until = std::min(rates_.released_after[i], h);  // 0: the release is not known
+    const double g = norm(forces.model().gravity);
     auto corrector = [&](const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, Vec3& a2, Vec3& a3) {
-      if (contact_event && norm(j1 - j0) * h > kJerkTrust * norm(a1 - a0)) {
-        if (contacts_before[q] < p.contact_count[i]) {  // a contact began: j1 is the singular rate
-          a2 = 2.0 * (a1 - a0 - h * j0) / (h * h);
-          a3 = {};
-          return;
-        }
-        // A contact ended: j0, at the step's start, was the singular rate (Tsuji's dashpot
-        // near release), and fitting it flung a bouncing grain off 10 % too fast. The fit
-        // is a0, a1 and j1: a(tau) = a0 + b tau + c tau^2. The predictor has already spent
-        // j0, so a2 and a3 are chosen to give the quadratic's velocity and position at h:
-        // dv = (b - j0) h^2/2 + c h^3/3, dx = (b - j0) h^3/6 + c h^4/12.
-        const Vec3 b = 2.0 * (a1 - a0) / h - j1, c = (h * j1 - (a1 - a0)) / (h * h);
-        const Vec3 dv = (h2 / 2.0) * (b - j0) + (h3 / 3.0) * c, dx = (h3 / 6.0) * (b - j0) + (h4 / 12.0) * c;
-        const Vec3 a2h3 = (120.0 / h) * dx - 24.0 * dv;  // from a2 h^3/6 + a3 h^4/24 = dv and
-        a2 = a2h3 / h3;                                    // a2 h^4/24 + a3 h^5/120 = dx
-        a3 = (24.0 * dv - 4.0 * a2h3) / h4;
-        return;
-      }
+      const double jump = norm(j1 - j0) * h;
+      if (began && since > 0) return fit_onset(a0, j0, a1, j1, h, since, a2, a3);
+      if (ended && until > 0) return fit_release(a0, j0, a1, j1, h, until, a2, a3);
+      if ((began || ended) && jump > kJerkTrust * norm(a1 - a0))
+        return began ? fit_without_end_rate(a0, j0, a1, h, a2, a3) : fit_without_start_rate(a0, j0, a1, j1, h, a2, a3);
+      if (!began && !ended && jump > kSingularRate * std::max({norm(a0), norm(a1), g}))
+        return norm(j1) >= norm(j0) ? fit_without_end_rate(a0, j0, a1, h, a2, a3) : fit_without_start_rate(a0, j0, a1, j1, h, a2, a3);
       a2 = (-6.0 * (a0 - a1) - h * (4.0 * j0 + 2.0 * j1)) / (h * h);
       a3 = (12.0 * (a0 - a1) + 6.0 * h * (j0 + j1)) / (h * h * h);
     };
@@ -403,11 +459,11 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // (P(EC)^2 for the fluid), with rates from the evaluated accelerations: fourth order
     // where the fluid alone acts (docs/integrators.md).
     const Vec3 f_c = p.force[i], t_c = p.torque[i];
-    // A woken particle's contact began at the end of its step, after a free flight that its
-    // prediction already follows to fourth order: it keeps the prediction (the corrector
-    // would spread the new contact force over the whole step) and starts its next step with
-    // the new force.
-    const bool woken = is_active_[i] == 2;
+    // A woken particle's contact began near the end of its step, after a free flight that its
+    // prediction follows to fourth order: the onset located, it is corrected from there
+    // like its partner; else it keeps the prediction (the corrector would spread the new
+    // contact force over the whole step) and starts its next step with the new force.
+    const bool woken = is_active_[i] == 2 && !(began && since > 0);
     Vec3 v = pred.v, w = pred.w, a1 = pred.a, al1 = pred.alpha, j1, ad1, a2, a3, b2, b3;
     const int passes = forces.model().fluid.enabled ? 2 : 1;
     for (int pass = 0; pass < passes; ++pass) {
@@ -432,8 +488,10 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     state_.acc[i] = a1, state_.jerk[i] = j1, state_.alpha[i] = al1, state_.alpha_dot[i] = ad1;
     state_.time[i] = t;
     // Aarseth's criterion with the derivatives at the step's end, for free particles (spec section 2); a particle in touch takes
-    // the contact rules, which follow its contacts' stiffness.
-    if (!woken && p.contact_count[i] == 0)
+    // the contact rules, which follow its contacts' stiffness. Not after a step whose last
+    // contact ended: the fit's a2, a3 are no derivatives of a smooth force (without gravity
+    // to floor |a| they asked for the finest level), and the event rule takes over there.
+    if (!woken && p.contact_count[i] == 0 && !ended)
       rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, norm(forces.model().gravity), a1, j1, a2 + h * a3, a3));
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
