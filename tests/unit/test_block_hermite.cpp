@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numeric>
 #include <string_view>
 #include <vector>
 
@@ -292,6 +293,37 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
     if (c.touching) EXPECT_EQ(s.level[c.i], s.level[c.j]) << "partners in touch share a level";
   for (const Contact& c : sim.world().contacts.walls())
     if (c.touching) EXPECT_GE(s.level[c.i], 6) << "a grain on the floor takes contact steps";
+}
+
+// run.json's account of what set the steps (BlockStepStats::set_by_own, set_by_cluster):
+// every step chosen after an evaluation is counted once, by the rule that set its level. A
+// 0.5 mm grain settles onto a 4 mm grain resting on the floor: the large grain's own
+// contact rules set its steps until the small one lands; at the touch the newcomer's event
+// rule sets the level the two share, and the large grain's step is counted as set by its
+// cluster. A lone grain settling through the water never takes a contact's rule.
+TEST(BlockHermite, EveryStepIsCountedByTheRuleThatSetIt) {
+  Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
+  auto& [w, model] = b;
+  w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
+  w.particles.add(0, 0, 4e-3, 2650, {0, 0, 1.999e-3}, {});
+  w.particles.add(1, 0, 0.5e-3, 2650, {0, 0, 4.27e-3}, {});  // 20 um above the large grain
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
+  Simulation sim = run(std::move(b), BlockStepRules{}, 10);
+  ASSERT_EQ(sim.forces().totals(sim.world()).contacts, 2) << "the small grain has landed";
+  const BlockStepStats& st = sim.block()->stats();
+  ASSERT_EQ(st.set_by_own.size(), kStepRules);
+  const auto sum = [](const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); };
+  EXPECT_EQ(sum(st.set_by_own) + sum(st.set_by_cluster), sim.particle_force_evaluations());
+  const auto at = [](const std::vector<std::uint64_t>& v, StepRule r) { return v[static_cast<std::size_t>(r)]; };
+  EXPECT_GT(at(st.set_by_own, StepRule::contact_or_gap) + at(st.set_by_own, StepRule::dashpot), 0u);
+  EXPECT_GT(at(st.set_by_cluster, StepRule::event), 0u);
+
+  Bed lone = settling_from_rest(1e-3);
+  const Simulation alone = run(std::move(lone), BlockStepRules{}, 3);
+  const BlockStepStats& sl = alone.block()->stats();
+  EXPECT_EQ(sum(sl.set_by_cluster), 0u);
+  EXPECT_EQ(at(sl.set_by_own, StepRule::dashpot), 0u);
+  EXPECT_GT(at(sl.set_by_own, StepRule::fluid) + at(sl.set_by_own, StepRule::aarseth) + at(sl.set_by_own, StepRule::event), 0u);
 }
 
 // A floor that starts rising at 0.2 m/s under a grain 7.8 um above it (from the start, or

@@ -228,19 +228,23 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
   refused("XSUBUCKP" + bytes.substr(8), "magic");
 }
 
-// Version 2 stored a pair's spring as seen from its smaller index: the same bytes with
-// another meaning, so its files are refused, saying that an older tsubu wrote them.
-TEST(CheckpointFormat, Version2WithSpringsByIndexIsRefusedAsOlder) {
-  ASSERT_EQ(kCheckpointVersion, 3u);
-  std::string old = encode_checkpoint(sample_checkpoint());
-  old[8] = 2;
-  try {
-    decode_checkpoint(old);
-    ADD_FAILURE() << "accepted a version 2 checkpoint";
-  } catch (const CheckpointError& e) {
-    EXPECT_NE(std::string(e.what()).find("format version 2, this tsubu reads version 3 (an older tsubu wrote it"),
-              std::string::npos)
-        << e.what();
+// An older version's files are refused, saying that an older tsubu wrote them (version 2
+// stored a pair's spring as seen from its smaller index: the same bytes with another meaning;
+// version 3 lacks the block steps' counts of steps by rule).
+TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
+  ASSERT_EQ(kCheckpointVersion, 4u);
+  for (char version : {2, 3}) {
+    std::string old = encode_checkpoint(sample_checkpoint());
+    old[8] = version;
+    try {
+      decode_checkpoint(old);
+      ADD_FAILURE() << "accepted a version " << int(version) << " checkpoint";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version) +
+                                           ", this tsubu reads version 4 (an older tsubu wrote it"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }
 
@@ -337,7 +341,14 @@ TEST(Resume, AfterSigkillTheRunEndsBitIdentical_BlockHermite) {
   TempDir dir;
   // 0.06 s (about 1.2 s of wall time, 600 steps): longer than the latest kill.
   expect_sigkill_resume_identical(dir.path(), kScenarios / "block_sediment.toml", {"--set", "simulation.duration=0.06"}, 600);
-  EXPECT_NE(slurp(dir.path() / "ref" / "run.json").find("\"block_steps\""), std::string::npos);
+  // The stepper's counts (block times, wakes, evaluations per level, steps by rule) too.
+  const auto block_steps = [&](const char* run) {
+    const std::string json = slurp(dir.path() / run / "run.json");
+    const std::size_t from = json.find("\"block_steps\"");
+    return from == std::string::npos ? std::string() : json.substr(from, json.find("\"results\"") - from);
+  };
+  EXPECT_NE(block_steps("ref").find("\"steps_set_by_cluster\""), std::string::npos) << block_steps("ref");
+  EXPECT_EQ(block_steps("ref"), block_steps("cut"));
 }
 
 // An inflow (grains entering during the run, docs/sedimentation.md): the stream's state is

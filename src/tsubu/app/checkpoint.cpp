@@ -35,7 +35,7 @@ static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector
                                         sizeof(Checkpoint::Record),
               "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
-                  sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint64_t>) &&
+                  sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + 3 * sizeof(std::vector<std::uint64_t>) &&
                   sizeof(Checkpoint::BlockSteps) == 2 * sizeof(std::uint64_t) + sizeof(HermiteState) +
                                                        2 * sizeof(std::vector<double>) + sizeof(BlockStepStats),
               "the block-step state changed: write the new field in encode_checkpoint/decode_checkpoint");
@@ -213,6 +213,8 @@ void write_payload(const Checkpoint& c, Writer& w) {
     w.u64(b.stats.wakes);
     w.u64(b.stats.evaluations.size());
     w.array(b.stats.evaluations);
+    w.array(b.stats.set_by_own);  // kStepRules entries each
+    w.array(b.stats.set_by_cluster);
   }
   if (c.inflow.present) {
     w.pod(std::uint8_t{2});
@@ -304,6 +306,8 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
     b.stats.block_times = r.u64();
     b.stats.wakes = r.u64();
     r.array(b.stats.evaluations, r.count(8));
+    r.array(b.stats.set_by_own, kStepRules);
+    r.array(b.stats.set_by_cluster, kStepRules);
     section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   }
   if (section == 2) {

@@ -74,8 +74,9 @@ class CheckpointError : public std::runtime_error {
 };
 
 // 2: the run id; 3: a pair's history is stored as seen from its particle with the smaller id
-// (ContactList), not from the smaller index.
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// (ContactList), not from the smaller index; 4: block steps store the steps chosen by rule
+// (BlockStepStats::set_by_own, set_by_cluster).
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload.

@@ -60,10 +60,14 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
     const double total = static_cast<double>(s.particle_force_evaluations);
     std::vector<double> share;
     for (std::uint64_t n : b.evaluations) share.push_back(total > 0 ? static_cast<double>(n) / total : 0.0);
+    nlohmann::ordered_json own, cluster;
+    for (std::size_t r = 0; r < kStepRules; ++r) own[kStepRuleNames[r]] = b.set_by_own[r], cluster[kStepRuleNames[r]] = b.set_by_cluster[r];
     j["block_steps"] = {{"levels", sc.block_steps.levels},
                         {"block_times", b.block_times},
                         {"wakes", b.wakes},
-                        {"evaluation_share_per_level", share}};
+                        {"evaluation_share_per_level", share},
+                        {"steps_set_by_own_rule", own},
+                        {"steps_set_by_cluster", cluster}};
   }
   // Before "results": a run resumed from a checkpoint of an older tsubu, which did not store
   // its sources' ids, leaves it out.

@@ -51,6 +51,7 @@ struct ContactStepRules {
 struct EvaluationRates {
   std::vector<Vec3> force, torque;  // dF/dt (N/s) and dT/dt (N m/s)
   std::vector<double> step_bound;   // s, the contacts' limit on the next step
+  std::vector<char> dashpot_bound;  // the dashpots' rule, not a contact's or a gap's, set step_bound
   // s: when exactly one contact of the particle began since its last evaluation (and none
   // ended), how long ago (its overlap over its rate of overlap); when exactly one ended (and
   // none began), how long after the last evaluation (its overlap then over its rate of
@@ -59,7 +60,8 @@ struct EvaluationRates {
   std::vector<double> touched_for, released_after;
 
   void resize(std::size_t n) {
-    force.resize(n), torque.resize(n), step_bound.resize(n), touched_for.resize(n), released_after.resize(n);
+    force.resize(n), torque.resize(n), step_bound.resize(n), dashpot_bound.resize(n), touched_for.resize(n),
+        released_after.resize(n);
   }
 };
 

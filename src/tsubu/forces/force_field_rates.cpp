@@ -72,7 +72,9 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     // of their relative sliding; with n contacts it grows n-fold. The Hermite corrector is
     // stable for a decay rate lambda while lambda h < 2.5 (amplification 1 + z + z^2/2 +
     // z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
-    if (g.damping_over_mass > 0) bound = std::min(bound, rules.eta_damping / (3.5 * g.damping_over_mass));
+    const double dashpots = g.damping_over_mass > 0 ? rules.eta_damping / (3.5 * g.damping_over_mass) : INFINITY;
+    out.dashpot_bound[i] = dashpots < bound;
+    bound = std::min(bound, dashpots);
     worst[q] = std::isfinite(g.force.x + g.force.y + g.force.z) ? g.deepest / (2.0 * r) : INFINITY;
     touching[q] = g.evaluated;
     p.force[i] = g.force;

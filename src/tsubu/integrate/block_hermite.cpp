@@ -167,6 +167,7 @@ void BlockHermite::index_levels() {
 void BlockHermite::size_scratch(std::size_t n) {
   rates_.resize(n);
   for (auto* v : {&change_v_, &change_w_, &change_f_, &change_t_}) v->resize(n);
+  aarseth_.resize(n, kNever);
 }
 
 void BlockHermite::start(World& world, ForceField& forces) {
@@ -253,6 +254,7 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
   state_ = std::move(state);
   stats_ = stats;
   stats_.evaluations.resize(static_cast<std::size_t>(rules_.levels) + 1, 0);
+  stats_.set_by_own.resize(kStepRules, 0), stats_.set_by_cluster.resize(kStepRules, 0);
   size_scratch(n);
   is_active_.assign(n, 0);
   active_.clear();
@@ -491,8 +493,9 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // the contact rules, which follow its contacts' stiffness. Not after a step whose last
     // contact ended: the fit's a2, a3 are no derivatives of a smooth force (without gravity
     // to floor |a| they asked for the finest level), and the event rule takes over there.
-    if (!woken && p.contact_count[i] == 0 && !ended)
-      rates_.step_bound[i] = std::min(rates_.step_bound[i], aarseth(rules_.eta_a, norm(forces.model().gravity), a1, j1, a2 + h * a3, a3));
+    aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended
+                      ? aarseth(rules_.eta_a, norm(forces.model().gravity), a1, j1, a2 + h * a3, a3)
+                      : kNever;
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
@@ -539,17 +542,25 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
   // relaxation time, Aarseth (from the corrector) or, after a contact began or ended, the
   // second-order estimate.
   std::vector<int> wish(active_.size());
+  std::vector<StepRule> reason(active_.size());  // the rule that set each wish
   parallel_for(active_.size(), [&](std::size_t q) {
     const std::uint32_t i = active_[q];
     double bound = rates_.step_bound[i];
-    bound = std::min(bound, rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
-                                                                  norm(p.velocity[i]), forces.crowding(i)));
+    StepRule& why = reason[q];
+    why = rates_.dashpot_bound[i] ? StepRule::dashpot : StepRule::contact_or_gap;
+    const auto take = [&](double b, StepRule rule) {
+      if (b < bound) bound = b, why = rule;
+    };
+    take(aarseth_[i], StepRule::aarseth);
+    take(rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
+                                               norm(p.velocity[i]), forces.crowding(i)),
+         StepRule::fluid);
     // The gap rules know only the listed neighbours: a step must not carry the particle out
     // of the region its list covers (a fast grain on a long step would pass through grains it
     // has not listed yet).
     const double room = list_limit(i) - moved_since_list(world, i, p.position[i]);
-    bound = std::min(bound, time_to_close(std::max(room, 0.0), norm(p.velocity[i]), norm(state_.acc[i])));
-    bound = std::min(bound, until_wall_event(world, i, t));
+    take(time_to_close(std::max(room, 0.0), norm(p.velocity[i]), norm(state_.acc[i])), StepRule::list);
+    take(until_wall_event(world, i, t), StepRule::wall_motion);
     // The second-order estimate after a grain's first touch from free flight (a force whose
     // rate is singular at the onset, as Tsuji's dashpot, needs short steps there) and after
     // its last contact ended (Aarseth's criterion restarts). Not when a grain already in
@@ -557,13 +568,15 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     // eta_s |a|/|j| ~ eta_s m/eta (35 ns for 0.5 mm grains) would hold every grain of a
     // deposit, which share one level, on it while any of its contacts opens or closes.
     if (contacts_before[q] != p.contact_count[i] && (contacts_before[q] == 0 || p.contact_count[i] == 0))
-      bound = std::min(bound, second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]));
+      take(second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]), StepRule::event);
     int level = level_for(bound, world);
     if (rules_.force_level < 0) {
+      const int own = level;
       level = std::max(level, int(state_.level[i]) - 1);  // double at most once a step
       // The new step must end on its own grid: t a multiple of it.
       const int zeros = t == 0 ? rules_.levels : std::min(std::countr_zero(static_cast<std::uint64_t>(t)), rules_.levels);
       level = std::max(level, rules_.levels - zeros);
+      if (level != own) why = StepRule::doubling;
     }
     wish[q] = level;
   });
@@ -581,11 +594,17 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
       }
     });
   std::vector<int> cluster(active_.size(), 0);
+  std::vector<std::uint32_t> finest(active_.size());  // the member whose wish the cluster takes (the first)
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
-    int& c = cluster[root(parent, q)];
-    c = std::max(c, wish[q]);
+    const std::uint32_t r = root(parent, q);
+    if (q == r || wish[q] > cluster[r]) cluster[r] = wish[q], finest[r] = q;
   }
-  for (std::uint32_t q = 0; q < active_.size(); ++q) set_level(active_[q], cluster[root(parent, q)]);
+  for (std::uint32_t q = 0; q < active_.size(); ++q) {
+    const std::uint32_t r = root(parent, q);
+    if (wish[q] == cluster[r]) ++stats_.set_by_own[static_cast<std::size_t>(reason[q])];
+    else ++stats_.set_by_cluster[static_cast<std::size_t>(reason[finest[r]])];
+    set_level(active_[q], cluster[r]);
+  }
   for (std::uint32_t i : active_) where[i] = UINT32_MAX;
 }
 

@@ -35,16 +35,33 @@ struct BlockStepRules {
 constexpr int kBeyondLevels = 2100;  // above log2 of the ratio of any two positive doubles
 int level_needed(double dt, double bound);
 
+// The step rules (docs/integrators.md), as the reason a step got its level: the contacts'
+// and gaps' rules of the evaluation, the dashpots', Aarseth's, the fluid's relaxation time,
+// the list's reach, a wall's change of motion, the event rule, and the doubling rule (a step
+// may double only once, and only where the time is a multiple of the doubled step).
+enum class StepRule : std::uint8_t { contact_or_gap, dashpot, aarseth, fluid, list, wall_motion, event, doubling, count };
+inline constexpr std::size_t kStepRules = static_cast<std::size_t>(StepRule::count);
+inline constexpr const char* kStepRuleNames[kStepRules] = {"contact_or_gap", "dashpot", "aarseth", "fluid",
+                                                           "list", "wall_motion", "event", "doubling"};
+
 // What the stepper did, for run.json and the series.
 struct BlockStepStats {
   std::uint64_t block_times = 0;
   std::uint64_t wakes = 0;                      // particles woken early by a new contact or a closing gap
   std::vector<std::uint64_t> evaluations;       // particle force evaluations per level
+  // The steps chosen after an evaluation (every evaluation but an entering grain's first),
+  // by the rule that set their level: the particle's own (set_by_own), or a
+  // partner's in its cluster of grains in touch, which share the finest level any of them
+  // needs (set_by_cluster; by the rule that set that member's).
+  std::vector<std::uint64_t> set_by_own, set_by_cluster;  // kStepRules entries each
 };
 
 class BlockHermite {
  public:
-  explicit BlockHermite(const BlockStepRules& rules) : rules_(rules) { stats_.evaluations.assign(static_cast<std::size_t>(rules.levels) + 1, 0); }
+  explicit BlockHermite(const BlockStepRules& rules) : rules_(rules) {
+    stats_.evaluations.assign(static_cast<std::size_t>(rules.levels) + 1, 0);
+    stats_.set_by_own.assign(kStepRules, 0), stats_.set_by_cluster.assign(kStepRules, 0);
+  }
 
   // A fresh run: evaluates every particle at world.step (a multiple of dt) and picks the
   // first steps.
@@ -85,6 +102,7 @@ class BlockHermite {
   // correct_dashpots' scratch: the predicted accelerations of the active particles, and per
   // particle (zero outside the active set) the corrections and the responses to them.
   std::vector<Vec3> predicted_acc_, predicted_alpha_, change_v_, change_w_, change_f_, change_t_;
+  std::vector<double> aarseth_;  // per particle, Aarseth's bound from its last correction (infinite where it does not apply)
   std::vector<Kinematics> predicted_;        // predict_around's, per particle
   std::vector<std::int64_t> predicted_at_;   // the block time of each, -1 for none
   std::vector<std::uint32_t> to_predict_;    // predict_around's scratch
