@@ -65,14 +65,16 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     gather<true>(world, i, g, &is_active);
     double bound = g.bound;
     // The dashpots: the fastest decay rate of the dashpots around particle i is at most
-    // (7/2) sum_c eta_c (1/m_i + 1/sqrt(m_i m_j)) (Gershgorin on M^-1/2 C M^-1/2: the dashpot
-    // of contact c acts on the relative velocity of i and j, and along the contact plane it
-    // moves sliding and rolling at once, 1/m + R^2/I = 7/(2m) for a sphere; a wall has
-    // m_j = infinity). For an isolated pair of equal grains this is the exact rate 7 eta/m
-    // of their relative sliding; with n contacts it grows n-fold. The Hermite corrector is
-    // stable for a decay rate lambda while lambda h < 2.5 (amplification 1 + z + z^2/2 +
-    // z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
-    const double dashpots = g.damping_over_mass > 0 ? rules.eta_damping / (3.5 * g.damping_over_mass) : INFINITY;
+    // sum_c max(eta_n, (7/2) eta_t) (1/m_i + 1/sqrt(m_i m_j)) (block Gershgorin on
+    // M^-1/2 C M^-1/2: contact c's dashpot acts on the relative velocity of i and j at the
+    // contact point, along its normal with eta_n and along the contact plane with eta_t,
+    // where it moves sliding and rolling at once, 1/m + R^2/I = 7/(2m) for a sphere, so its
+    // block of particle i has the norm max(eta_n, 7/2 eta_t)/m_i; a wall has m_j = infinity).
+    // For an isolated pair of equal grains with eta_t = eta_n this is the exact rate
+    // 7 eta/m of their relative sliding; with n contacts it grows n-fold. The Hermite
+    // corrector is stable for a decay rate lambda while lambda h < 2.5 (amplification
+    // 1 + z + z^2/2 + z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
+    const double dashpots = g.damping_over_mass > 0 ? rules.eta_damping / g.damping_over_mass : INFINITY;
     out.dashpot_bound[i] = dashpots < bound;
     bound = std::min(bound, dashpots);
     worst[q] = std::isfinite(g.force.x + g.force.y + g.force.z) ? g.deepest / (2.0 * r) : INFINITY;

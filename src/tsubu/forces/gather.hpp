@@ -39,7 +39,7 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
       if (rt.released_after > 0) ++g.ended, g.released_after = rt.released_after;
       if (e.delta > 0) {
         const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[side < 0 ? pairs[k].i : pairs[k].j];
-        g.damping_over_mass += rt.damping * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
+        g.damping_over_mass += std::max(rt.damping, 3.5 * rt.tangential_damping) * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
       }
     }
   });
