@@ -92,9 +92,11 @@ TEST(SpatialSort, SortedRunIsTheSamePhysics) {
 
 // Block steps: the Simulation's one renumbering moves the Hermite state (times, levels,
 // accelerations and their derivatives) with the particles. Sorted every third step, ~300
-// grains settling in water stay with the unsorted run to round-off (measured 3.5e-16 m
-// after 250 steps); a renumbering that left the Hermite state behind moves them by
-// millimetres or stops the run.
+// grains settling in water stay with the unsorted run to round-off: every grain within
+// 1e-8 of its diameter after 250 steps (measured 3.5e-16 m before the corrector located
+// contact events inside a step, 1.6e-12 m since: the release mark divides a gap of a few
+// nanometres, whose last bits the order of the sums sets, by its rate of opening); a
+// renumbering that left the Hermite state behind moves them by millimetres or stops the run.
 TEST(SpatialSort, SortedBlockStepRunIsTheSamePhysics) {
   const std::vector<std::string> common = {"simulation.duration=0.025"};
   auto with = [&](const char* sort) {
@@ -106,7 +108,7 @@ TEST(SpatialSort, SortedBlockStepRunIsTheSamePhysics) {
   const World sorted = with("search.sort_every=3");
   ASSERT_NE(plain.particles.id, sorted.particles.id) << "the sort should have reordered the grains";
   const double worst = largest_move(plain, sorted);
-  EXPECT_LT(worst, 1e-9 * 0.0005);
+  EXPECT_LT(worst, 1e-8 * 0.0005);
   ::testing::Test::RecordProperty("largest_position_difference_m", ::testing::PrintToString(worst));
 }
 

@@ -107,9 +107,9 @@ double contact_step(const Normal& normal, const ContactStepRules& rules, double 
 // its overlap over its rate of overlap (the approach speed at touch, less what the contact
 // has braked since: within a few per cent over one contact step). 0 when not approaching.
 inline double onset_age(Dual delta) { return delta.d > 0 ? delta.v / delta.d : 0.0; }
-// How long after its last evaluation a contact that was touching then, and is not now, ended:
-// its overlap then over its rate of separation then. 0 when it was not separating.
-inline double release_delay(double delta, double delta_rate) { return delta > 0 && delta_rate < 0 ? -delta / delta_rate : 0.0; }
+// How long ago a contact that was touching at its last evaluation, and is not now, ended: its
+// gap over its rate of opening (the grains fly apart free since). 0 when it is not opening.
+inline double release_age(double gap, double opening) { return opening > 0 ? gap / opening : 0.0; }
 
 // One scalar of the number type in a lane: a Dual as its two doubles, left uninitialised like
 // a double (a lane is written before it is read).
@@ -212,10 +212,10 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
       if (!c.touching) {
         // The rate channel of a pair apart: no force, and the step bound of its approach.
         const double dist = std::sqrt(dist2);
-        const double released = was_touching[m] ? release_delay(pair_results_.entry[k].delta, pair_rates_[k].delta) : 0;
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
         const Vec3 n = d / dist;
+        const double released = was_touching[m] ? release_age(dist - reach, dot(value(a.v) - value(b.v), n)) : 0;
         const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
         const double r_eff = p.radius[c.i] * p.radius[c.j] / reach;
         visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
@@ -307,7 +307,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   if (!c.touching) {
     c.history = {};
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
-      const double released = was_touching ? release_delay(wall_results_.entry[k].delta, wall_rates_[k].delta) : 0;
+      const double released = was_touching ? release_age(dist - r, dot(value(v_rel), wall.normal)) : 0;
       const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -dot(value(v_rel), wall.normal), 0,
                                                    dist - r, -dot(rate(v_rel), wall.normal))
                                     : std::numeric_limits<double>::infinity();

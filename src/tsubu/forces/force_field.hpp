@@ -54,14 +54,14 @@ struct EvaluationRates {
   std::vector<char> dashpot_bound;  // the dashpots' rule, not a contact's or a gap's, set step_bound
   // s: when exactly one contact of the particle began since its last evaluation (and none
   // ended), how long ago (its overlap over its rate of overlap); when exactly one ended (and
-  // none began), how long after the last evaluation (its overlap then over its rate of
-  // separation then); 0 otherwise. The corrector locates the event inside the step with them
-  // (BlockHermite::correct).
-  std::vector<double> touched_for, released_after;
+  // none began), how long ago (its gap over its rate of opening); 0 otherwise. The corrector
+  // locates the event inside the step with them (BlockHermite::correct). Both are read from
+  // the evaluation now and the touching flag, so that a resumed run finds them alike.
+  std::vector<double> touched_for, released_for;
 
   void resize(std::size_t n) {
     force.resize(n), torque.resize(n), step_bound.resize(n), dashpot_bound.resize(n), touched_for.resize(n),
-        released_after.resize(n);
+        released_for.resize(n);
   }
 };
 
@@ -196,9 +196,9 @@ class ForceField {
     Vec3 n;                // unit normal from j to i (dashpot_response)
     double damping = 0, tangential_damping = 0;  // eta_n, eta_t now, N s/m
     // A contact that began since its last evaluation: how long ago, delta / (d delta/dt)
-    // (EvaluationRates::touched_for). One that ended: how long after its last evaluation,
-    // from the overlap and its rate then (EvaluationRates::released_after). 0 for every other.
-    double touched_for = 0, released_after = 0;
+    // (EvaluationRates::touched_for). One that ended: how long ago, gap / (d gap/dt)
+    // (EvaluationRates::released_for). 0 for every other.
+    double touched_for = 0, released_for = 0;
   };
   const Model* model_;
   std::string without_rates_;  // LawTable::without_rates of the model, found once
@@ -270,7 +270,7 @@ class ForceField {
     double bound = std::numeric_limits<double>::infinity(), damping_over_mass = 0;
     std::uint64_t evaluated = 0;
     int began = 0, ended = 0;  // contacts that began or ended since their last evaluation
-    double touched_for = 0, released_after = 0;  // s, the Rates' of the last of them
+    double touched_for = 0, released_for = 0;  // s, the Rates' of the last of them
   };
   template <bool WithRates>
   using Gathered = std::conditional_t<WithRates, RateSums, Sums>;  // the fixed steps' sums carry no rates

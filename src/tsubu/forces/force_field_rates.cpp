@@ -86,7 +86,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     out.torque[i] = g.torque_rate;
     out.step_bound[i] = bound;
     out.touched_for[i] = g.began == 1 && g.ended == 0 ? g.touched_for : 0.0;
-    out.released_after[i] = g.ended == 1 && g.began == 0 ? g.released_after : 0.0;
+    out.released_for[i] = g.ended == 1 && g.began == 0 ? g.released_for : 0.0;
   });
   for (std::uint64_t c : touching) evaluations_ += c;
   const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());

@@ -36,7 +36,7 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
       g.evaluated += e.delta > 0 && (side >= 0 || !(*is_active)[pairs[k].i]);  // once per contact
       g.bound = std::min(g.bound, rt.step_bound);
       if (rt.touched_for > 0) ++g.began, g.touched_for = rt.touched_for;
-      if (rt.released_after > 0) ++g.ended, g.released_after = rt.released_after;
+      if (rt.released_for > 0) ++g.ended, g.released_for = rt.released_for;
       if (e.delta > 0) {
         const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[side < 0 ? pairs[k].i : pairs[k].j];
         g.damping_over_mass += std::max(rt.damping, 3.5 * rt.tangential_damping) * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));

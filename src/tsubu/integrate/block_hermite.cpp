@@ -261,11 +261,15 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
   index_levels();
   list_positions_ = std::move(list_positions);
   list_reach_ = std::move(list_reach);
-  forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));  // the lists the run had
+  build_lists(world, forces);  // the lists the run had
+  lists_stale_ = lists_stale;
+}
+
+void BlockHermite::build_lists(World& world, ForceField& forces) {
+  forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));
   list_skin_ = forces.skin();
   walls_built_at_.clear();
   for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
-  lists_stale_ = lists_stale;
 }
 
 void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t t) {
@@ -284,10 +288,7 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
     // skin), at most one own diameter: a falling grain keeps its list for several dt.
     list_reach_[i] = std::clamp(norm(k.v) * horizon + 0.5 * norm(k.a) * horizon * horizon, skin, 2 * p.radius[i]);
   });
-  forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));
-  list_skin_ = forces.skin();
-  walls_built_at_.clear();
-  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
+  build_lists(world, forces);
   lists_stale_ = false;
 }
 
@@ -443,12 +444,12 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     const double h2 = h * h, h3 = h2 * h, h4 = h3 * h;
     const bool began = contacts_before[q] < p.contact_count[i], ended = contacts_before[q] > p.contact_count[i];
     const double since = std::min(rates_.touched_for[i], h);  // 0: the onset is not known
-    const double until = std::min(rates_.released_after[i], h);  // 0: the release is not known
+    const double released = std::min(rates_.released_for[i], h);  // 0: the release is not known
     const double g = norm(forces.model().gravity);
     auto corrector = [&](const Vec3& a0, const Vec3& j0, const Vec3& a1, const Vec3& j1, Vec3& a2, Vec3& a3) {
       const double jump = norm(j1 - j0) * h;
       if (began && since > 0) return fit_onset(a0, j0, a1, j1, h, since, a2, a3);
-      if (ended && until > 0) return fit_release(a0, j0, a1, j1, h, until, a2, a3);
+      if (ended && released > 0) return fit_release(a0, j0, a1, j1, h, h - released, a2, a3);
       if ((began || ended) && jump > kJerkTrust * norm(a1 - a0))
         return began ? fit_without_end_rate(a0, j0, a1, h, a2, a3) : fit_without_start_rate(a0, j0, a1, j1, h, a2, a3);
       if (!began && !ended && jump > kSingularRate * std::max({norm(a0), norm(a1), g}))

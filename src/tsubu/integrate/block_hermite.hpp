@@ -133,6 +133,8 @@ class BlockHermite {
   void choose_levels(const World& world, const ForceField& forces, std::int64_t t,
                      const std::vector<int>& contacts_before);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
+  // The lists from list_positions_ and list_reach_, with the walls' places now as theirs.
+  void build_lists(World& world, ForceField& forces);
   bool list_outrun(const World& world, const Predictor& kin, std::uint32_t i) const;
   // Moving walls: how far each can travel in the list horizon; their velocities for the
   // steps from block time t (ticks); the time from t to the next change of motion of a wall
