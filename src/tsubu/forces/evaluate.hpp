@@ -215,13 +215,14 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
         const Vec3 n = d / dist;
-        const double released = was_touching[m] ? release_age(dist - reach, dot(value(a.v) - value(b.v), n)) : 0;
+        const double gap = dist - reach, opening = dot(value(a.v) - value(b.v), n);
+        const double released = was_touching[m] ? release_age(gap, opening) : 0;
         const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
         const double r_eff = p.radius[c.i] * p.radius[c.j] / reach;
         visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
           pair_rates_[k] = {{}, {}, 0,
-                            contact_step(normal, *rules, m_eff, r_eff, false, -dot(value(a.v) - value(b.v), n), 0,
-                                         dist - reach, -dot(rate(a.v) - rate(b.v), n)),
+                            contact_step(normal, *rules, m_eff, r_eff, false, -opening, 0, gap,
+                                         -dot(rate(a.v) - rate(b.v), n)),
                             n, 0, 0, 0, released};
         });
       }
@@ -307,9 +308,10 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   if (!c.touching) {
     c.history = {};
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
-      const double released = was_touching ? release_age(dist - r, dot(value(v_rel), wall.normal)) : 0;
-      const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -dot(value(v_rel), wall.normal), 0,
-                                                   dist - r, -dot(rate(v_rel), wall.normal))
+      const double opening = dot(value(v_rel), wall.normal);
+      const double released = was_touching ? release_age(dist - r, opening) : 0;
+      const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
+                                                   -dot(rate(v_rel), wall.normal))
                                     : std::numeric_limits<double>::infinity();
       wall_rates_[k] = {{}, {}, 0, bound, wall.normal, 0, 0, 0, released};
     } else if (shifts_) {

@@ -254,7 +254,6 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
   state_ = std::move(state);
   stats_ = stats;
   stats_.evaluations.resize(static_cast<std::size_t>(rules_.levels) + 1, 0);
-  stats_.set_by_own.resize(kStepRules, 0), stats_.set_by_cluster.resize(kStepRules, 0);
   size_scratch(n);
   is_active_.assign(n, 0);
   active_.clear();
@@ -341,12 +340,15 @@ bool BlockHermite::list_outrun(const World& world, const Predictor& kin, std::ui
   return moved + ahead > list_limit(i);
 }
 
-void BlockHermite::collect_active(std::int64_t t) {
-  // Level k's steps end at multiples of 2^(L-k) ticks: the levels at or below the
-  // trailing zeros of t are due.
+int BlockHermite::coarsest_on_grid(std::int64_t t) const {
+  // Level k's steps end at multiples of 2^(L-k) ticks: L less the trailing zeros of t.
   const int zeros = t == 0 ? rules_.levels : std::min(std::countr_zero(static_cast<std::uint64_t>(t)), rules_.levels);
+  return rules_.levels - zeros;
+}
+
+void BlockHermite::collect_active(std::int64_t t) {
   active_.clear();
-  for (int k = rules_.levels - zeros; k <= rules_.levels; ++k)
+  for (int k = coarsest_on_grid(t); k <= rules_.levels; ++k)  // the levels whose steps end at t
     for (std::uint32_t i : members_[static_cast<std::size_t>(k)]) active_.push_back(i);
   std::sort(active_.begin(), active_.end());  // the same order whatever the level history
   for (std::uint32_t i : active_) is_active_[i] = 1;
@@ -494,9 +496,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // the contact rules, which follow its contacts' stiffness. Not after a step whose last
     // contact ended: the fit's a2, a3 are no derivatives of a smooth force (without gravity
     // to floor |a| they asked for the finest level), and the event rule takes over there.
-    aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended
-                      ? aarseth(rules_.eta_a, norm(forces.model().gravity), a1, j1, a2 + h * a3, a3)
-                      : kNever;
+    aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended ? aarseth(rules_.eta_a, g, a1, j1, a2 + h * a3, a3) : kNever;
     lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
@@ -574,9 +574,7 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     if (rules_.force_level < 0) {
       const int own = level;
       level = std::max(level, int(state_.level[i]) - 1);  // double at most once a step
-      // The new step must end on its own grid: t a multiple of it.
-      const int zeros = t == 0 ? rules_.levels : std::min(std::countr_zero(static_cast<std::uint64_t>(t)), rules_.levels);
-      level = std::max(level, rules_.levels - zeros);
+      level = std::max(level, coarsest_on_grid(t));  // the new step must start on its own grid
       if (level != own) why = StepRule::doubling;
     }
     wish[q] = level;
@@ -594,11 +592,11 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
       }
     });
-  std::vector<int> cluster(active_.size(), 0);
+  std::vector<int> cluster(active_.size(), -1);
   std::vector<std::uint32_t> finest(active_.size());  // the member whose wish the cluster takes (the first)
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t r = root(parent, q);
-    if (q == r || wish[q] > cluster[r]) cluster[r] = wish[q], finest[r] = q;
+    if (wish[q] > cluster[r]) cluster[r] = wish[q], finest[r] = q;
   }
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t r = root(parent, q);

@@ -120,6 +120,8 @@ class BlockHermite {
   void predict_around(const World& world, std::int64_t t, std::size_t from);
   void size_scratch(std::size_t n);  // the per-particle scratch arrays for n particles
   std::int64_t step_ticks(int level) const { return std::int64_t{1} << (rules_.levels - level); }
+  // The coarsest level whose steps end (and may start) at block time t, ticks.
+  int coarsest_on_grid(std::int64_t t) const;
   Predictor predictor(const World& world, std::int64_t now) const;
   // The Hermite state of particle i from its evaluated forces and rates plus the fluid's.
   void take_state(World& world, const ForceField& forces, std::size_t i);
