@@ -197,5 +197,41 @@ TEST(FluidRates, DragRateAtRestIsTheStokesLimit) {
   EXPECT_NEAR(norm(expect), 3 * M_PI * kRhoF * kNu * d * 3, 1e-15);
 }
 
+// The slope the block-step corrector moves the load along (FluidSlope) is the load's
+// derivative: against central differences of fluid_load along a velocity and a spin change,
+// below and above the cap, hindered and at rest; its relaxation time at the evaluated speed is
+// drag_relaxation_time's, and a lift model is not given a slope.
+TEST(FluidSlope, IsTheLoadsDerivativeWithRespectToVelocityAndSpin) {
+  const double d = 1e-3;
+  Fluid hindered = water();
+  hindered.hindered = true;
+  const Crowding crowd{0.2, 5.0, 3.1};
+  const Vec3 du{0.3, -0.7, 0.2}, dw{40, 10, -25};
+  for (const Fluid& f : {water(), hindered})
+    for (double speed : {0.0, 5e-4, 0.05, 0.3, 5.0}) {  // hindered, 0.3 m/s is Re 600, 5 m/s capped
+      const Vec3 u{0.6 * speed, -0.3 * speed, -0.74 * speed}, w{30, -10, 5};
+      const Crowding c = f.hindered ? crowd : Crowding{};
+      FluidSlope slope;
+      fluid_load_with_rate(f, d, {0, 0, -9.81}, u, {}, w, {}, c, &slope);
+      ASSERT_TRUE(slope.exact);
+      const double h = speed > 0 ? 1e-6 * speed : 1e-9;
+      const FluidLoad up = fluid_load(f, d, {0, 0, -9.81}, u + h * du, w + h * dw, c);
+      const FluidLoad down = fluid_load(f, d, {0, 0, -9.81}, u - h * du, w - h * dw, c);
+      const Vec3 force = (up.force - down.force) / (2 * h), torque = (up.torque - down.torque) / (2 * h);
+      const std::string at = std::string(f.hindered ? "hindered" : "lone") + ", |u| = " + std::to_string(speed);
+      // At rest the drag's Re^0.687 term is not differentiable: its slope there is the Stokes drag's.
+      EXPECT_LT(norm(slope.force_change(du) - force), (speed > 0 ? 1e-6 : 1e-2) * norm(force)) << at;
+      EXPECT_LT(norm(slope.torque_change(dw) - torque), 1e-7 * norm(torque)) << at;
+      const double m = 3e-6, q = norm(u);
+      EXPECT_NEAR(slope.relaxation_time(m, q), drag_relaxation_time(f, d, m, q, c), 1e-12 * drag_relaxation_time(f, d, m, q, c)) << at;
+      if (speed > 0)  // moved along the slope to 1 % more speed: the law's value to second order
+        EXPECT_NEAR(slope.relaxation_time(m, 1.01 * q), drag_relaxation_time(f, d, m, 1.01 * q, c),
+                    1e-3 * drag_relaxation_time(f, d, m, q, c)) << at;
+    }
+  FluidSlope slope;
+  fluid_load_with_rate(only(false, true, true, SpinModel::loth), d, {}, {0.01, 0, 0}, {}, {0, 10, 0}, {}, {}, &slope);
+  EXPECT_FALSE(slope.exact);
+}
+
 }  // namespace
 }  // namespace tsubu

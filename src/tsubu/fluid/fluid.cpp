@@ -33,6 +33,9 @@ T re_times_cd(T re, double cap_re) {
   return T(0.44) * re;
 }
 
+// Re d(Re C_D)/dRe, from Re C_D = rc at re: 0.687 (rc - 24) on Schiller-Naumann, rc above the cap.
+double re_times_cd_slope(double rc, double re, double cap_re) { return re <= cap_re ? 0.687 * (rc - 24.0) : rc; }
+
 template <class T>
 T loth(T re, T rr) {
   return rr * (T(1.0) - (T(0.675) + T(0.15) * (T(1.0) + tanh(T(0.28) * (rr - T(2.0))))) * tanh(T(0.18) * sqrt(re)));
@@ -57,17 +60,27 @@ bool hindered(const Fluid& f, const Crowding& c) { return f.hindered && c.expone
 // The fluid's force (buoyancy, drag, lift) and torque, on double (values) or Dual (rates).
 // Hindered settling (Fluid::hindered): the drag is the lone grain's at the velocity s u,
 // s = (1 - phi)^-n, so a grain in a homogeneous suspension settles at u_t (1 - phi)^n.
+// With `slope`, also the load's slope about u and omega (FluidSlope), from the values.
 template <class T>
-Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const Vector<T>& w, const Crowding& crowd) {
+Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const Vector<T>& w, const Crowding& crowd,
+             FluidSlope* slope = nullptr) {
   Load<T> out{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
+  const bool spin_model = f.lift != SpinModel::none;
+  if (slope) {
+    *slope = FluidSlope{};
+    slope->exact = !spin_model;
+  }
   if (!f.enabled) return out;
   const double area = M_PI * d * d / 4, volume = M_PI * d * d * d / 6;
   if (f.buoyancy) {
     const double b = -f.density * volume;
     out.force = {T(b * g.x), T(b * g.y), T(b * g.z)};
   }
-  if (f.stokes_torque) out.torque = T(-M_PI * f.density * f.viscosity * d * d * d) * w;
-  const bool spin_model = f.lift != SpinModel::none;
+  if (f.stokes_torque) {
+    const double c = M_PI * f.density * f.viscosity * d * d * d;
+    out.torque = T(-c) * w;
+    if (slope) slope->spin_drag = c;
+  }
   if (!f.drag && !spin_model) return out;
 
   const T q2 = dot(u, u);
@@ -80,6 +93,7 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const 
       T stokes(-half_rho_s * f.viscosity / d * 24.0);
       if (hinder) stokes = stokes * s;
       out.force = out.force + stokes * u;
+      if (slope) slope->drag = -value(stokes);
     }
     return out;
   }
@@ -103,10 +117,19 @@ Load<T> load(const Fluid& f, double d, const Vec3& g, const Vector<T>& u, const 
   } else if (f.lift == SpinModel::loth && spinning) {
     lift_coefficient = loth(re, T(d) * spin / q);
   }
-  if (f.drag && hinder)
-    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re * s, f.cap_re()) * correction * s) * u;
-  else if (f.drag)
-    out.force = out.force + (T(-half_rho_s * f.viscosity / d) * re_times_cd(re, f.cap_re()) * correction) * u;
+  if (f.drag) {
+    const T re_drag = hinder ? re * s : re;
+    const T rc = re_times_cd(re_drag, f.cap_re());
+    const T k = T(half_rho_s * f.viscosity / d) * rc * correction * s;  // the drag is -k u
+    out.force = out.force - k * u;
+    if (slope) {
+      const double c = value(k) / value(rc);
+      slope->drag = value(k);
+      slope->drag_speed = c * re_times_cd_slope(value(rc), value(re_drag), f.cap_re());
+      slope->speed = value(q);
+      slope->direction = value(u) / value(q);
+    }
+  }
   if (value(lift_coefficient) != 0) {
     const Vector<T> c = cross(w, u);
     const T c2 = dot(c, c);
@@ -134,8 +157,8 @@ FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec
 }
 
 FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
-                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd) {
-  const Load<Dual> l = load<Dual>(fluid, d, g, DualVec3(u, a), DualVec3(omega, alpha), crowd);
+                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd, FluidSlope* slope) {
+  const Load<Dual> l = load<Dual>(fluid, d, g, DualVec3(u, a), DualVec3(omega, alpha), crowd, slope);
   return {{value(l.force), value(l.torque)}, {rate(l.force), rate(l.torque)}};
 }
 
@@ -144,6 +167,11 @@ double drag_relaxation_time(const Fluid& fluid, double d, double m, double speed
   const double area = M_PI * d * d / 4;
   const double s = hindrance(fluid.hindered ? crowd : Crowding{});
   return m / (0.5 * fluid.density * area * fluid.viscosity / d * re_times_cd(s * speed * d / fluid.viscosity, fluid.cap_re()) * s);
+}
+
+double FluidSlope::relaxation_time(double m, double at_speed) const {
+  const double k = speed > 0 ? drag + drag_speed * (at_speed - speed) / speed : drag;
+  return k > 0 ? m / k : INFINITY;
 }
 
 double hindrance(const Crowding& crowd) { return crowd.exponent == 0 ? 1.0 : hindrance_of<double>(crowd); }

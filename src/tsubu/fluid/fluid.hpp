@@ -79,12 +79,33 @@ FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u,
 FluidLoad fluid_load_rate(const Fluid& fluid, double d, const Vec3& u, const Vec3& a, const Vec3& omega,
                           const Vec3& alpha, const Crowding& crowd = {});
 
-// Both at once (one evaluation on Duals; the values agree with fluid_load to round-off).
+// How the load changes with the grain's velocity and spin about those it was evaluated at,
+// where that change is exactly linear in the spin and smooth in the velocity: drag and the
+// Stokes torque, no lift (`exact` is false with a lift model, whose change is not given).
+// The drag is -K(q) u (q = |u|), so its derivative along a velocity change du is
+// -(K du + K_q (e.du) e) with e = u/q and K_q = q dK/dq; the torque's is -c domega.
+struct FluidSlope {
+  bool exact = false;
+  double drag = 0;        // K, kg/s
+  double drag_speed = 0;  // K_q = q dK/dq, kg/s (0 at rest, where Re dC_D/dRe Re vanishes)
+  double speed = 0;       // q, m/s
+  Vec3 direction;         // e
+  double spin_drag = 0;   // c, kg m^2/s
+  Vec3 force_change(const Vec3& du) const { return -(drag * du + drag_speed * dot(direction, du) * direction); }
+  Vec3 torque_change(const Vec3& domega) const { return -spin_drag * domega; }
+  // The drag relaxation time (drag_relaxation_time) of translational mass m at speed
+  // `speed`, from K moved along its slope to that speed.
+  double relaxation_time(double m, double speed) const;
+};
+
+// Both at once (one evaluation on Duals; the values agree with fluid_load to round-off), and,
+// when `slope` is given, the load's slope about u and omega.
 struct FluidLoadWithRate {
   FluidLoad value, rate;
 };
 FluidLoadWithRate fluid_load_with_rate(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& a,
-                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd = {});
+                                       const Vec3& omega, const Vec3& alpha, const Crowding& crowd = {},
+                                       FluidSlope* slope = nullptr);
 
 // Relaxation time of the drag on a sphere of diameter d and translational mass m moving at
 // `speed` through the still fluid: m / (F_drag/speed), s (infinite without drag); hindered

@@ -192,6 +192,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   }
   stats_.evaluations[0] += n;  // the first evaluation, counted once
   std::fill(contacts_before.begin(), contacts_before.end(), -1);  // every step is a first step
+  fluid_slope_.assign(n, FluidSlope{});  // no corrector ran: the relaxation times from the law
   choose_levels(world, forces, now, contacts_before);
   std::fill(is_active_.begin(), is_active_.end(), 0);
   active_.clear();
@@ -436,7 +437,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);
   std::vector<char> lost(active_.size(), 0);
-  predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size());
+  predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size()), fluid_slope_.resize(active_.size());
   parallel_for(active_.size(), [&](std::size_t q) {
     const std::uint32_t i = active_[q];
     const double h = static_cast<double>(t - state_.time[i]) * dt_tick;
@@ -460,9 +461,11 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
       a3 = (12.0 * (a0 - a1) + 6.0 * h * (j0 + j1)) / (h * h * h);
     };
     // Contacts and gravity from the evaluation; the still fluid's velocity-dependent forces
-    // evaluated twice, at the predicted and then at the corrected velocity and spin
-    // (P(EC)^2 for the fluid), with rates from the evaluated accelerations: fourth order
-    // where the fluid alone acts (docs/integrators.md).
+    // taken twice, at the predicted and then at the corrected velocity and spin (P(EC)^2 for
+    // the fluid), with rates from the evaluated accelerations: fourth order where the fluid
+    // alone acts (docs/integrators.md). Without lift the second pass moves the first along
+    // the load's slope (FluidSlope: the velocity changes by O(h^3), the slope's error is
+    // O(h^6)); a lift model is evaluated again.
     const Vec3 f_c = p.force[i], t_c = p.torque[i];
     // A woken particle's contact began near the end of its step, after a free flight that its
     // prediction follows to fourth order: the onset located, it is corrected from there
@@ -470,12 +473,19 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // contact force over the whole step) and starts its next step with the new force.
     const bool woken = is_active_[i] == 2 && !(began && since > 0);
     Vec3 v = pred.v, w = pred.w, a1 = pred.a, al1 = pred.alpha, j1, ad1, a2, a3, b2, b3;
-    const int passes = forces.model().fluid.enabled ? 2 : 1;
+    const Fluid& fluid_model = forces.model().fluid;
+    const int passes = fluid_model.enabled ? 2 : 1;
+    FluidSlope& slope = fluid_slope_[q];
+    FluidLoadWithRate fluid;
     for (int pass = 0; pass < passes; ++pass) {
       // The rates are taken along the accelerations of the pass before (the predicted ones
       // first): the second pass's are within O(h^3) of the true ones.
-      const FluidLoadWithRate fluid =
-          fluid_load_with_rate(forces.model().fluid, 2 * p.radius[i], forces.model().gravity, v, a1, w, al1, forces.crowding(i));
+      if (pass == 0 || !slope.exact) {
+        fluid = fluid_load_with_rate(fluid_model, 2 * p.radius[i], forces.model().gravity, v, a1, w, al1, forces.crowding(i), &slope);
+      } else {
+        fluid.value.force += slope.force_change(v - pred.v), fluid.value.torque += slope.torque_change(w - pred.w);
+        fluid.rate.force += slope.force_change(a1 - pred.a), fluid.rate.torque += slope.torque_change(al1 - pred.alpha);
+      }
       const FluidLoad &fl = fluid.value, &fr = fluid.rate;
       a1 = (f_c + fl.force) / m, al1 = (t_c + fl.torque) / inertia;
       j1 = (rates_.force[i] + fr.force) / m, ad1 = (rates_.torque[i] + fr.torque) / inertia;
@@ -553,9 +563,12 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
       if (b < bound) bound = b, why = rule;
     };
     take(aarseth_[i], StepRule::aarseth);
-    take(rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
-                                               norm(p.velocity[i]), forces.crowding(i)),
-         StepRule::fluid);
+    // The drag's relaxation time from the corrector's slope (the same law, without a pow).
+    const FluidSlope& slope = fluid_slope_[q];
+    const double relaxation = slope.exact ? slope.relaxation_time(p.translational_mass[i], norm(p.velocity[i]))
+                                          : drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
+                                                                 norm(p.velocity[i]), forces.crowding(i));
+    take(rules_.eta_tau * relaxation, StepRule::fluid);
     // The gap rules know only the listed neighbours: a step must not carry the particle out
     // of the region its list covers (a fast grain on a long step would pass through grains it
     // has not listed yet).

@@ -102,6 +102,7 @@ class BlockHermite {
   // correct_dashpots' scratch: the predicted accelerations of the active particles, and per
   // particle (zero outside the active set) the corrections and the responses to them.
   std::vector<Vec3> predicted_acc_, predicted_alpha_, change_v_, change_w_, change_f_, change_t_;
+  std::vector<FluidSlope> fluid_slope_;  // per active particle: the fluid load's slope from the corrector
   std::vector<double> aarseth_;  // per particle, Aarseth's bound from its last correction (infinite where it does not apply)
   std::vector<Kinematics> predicted_;        // predict_around's, per particle
   std::vector<std::int64_t> predicted_at_;   // the block time of each, -1 for none
