@@ -1,84 +1,118 @@
 #!/usr/bin/python3
-"""Block steps against velocity Verlet on bench/hermite-cloud.toml (docs/integrators.md).
+"""Block steps against velocity Verlet on four workloads (docs/integrators.md, "Cost against
+velocity Verlet"): the table of the block-step targets in one command.
 
-Workload (i): the cloud falls 0.1 s through water, before any grain reaches the floor.
-Workload (ii): the same cloud falls onto the floor and settles (1.5 s).
-Each workload runs block_hermite with its default rules and velocity Verlet at the largest
-step that completes it (smaller steps are listed too: a step that fails is reported as such),
-and writes bench/results/integrators.{csv,md}: particle force evaluations, wall and CPU time,
-and the accuracy measures (kinetic energy at the end, tracked grains, the deposit's solid
-fraction and coordination).
+  i     bench/hermite-cloud.toml: 3070 grains of 0.5-5 mm fall 0.1 s through water
+  ii    the same cloud falls onto the floor and settles (1.5 s; --until cuts it short)
+  poly  examples/sedimentation/poly.toml, the representative mixture (S = 0, Sigma = 2, Q_0):
+        rain until 0.0678 kg have entered, then until the deposit is at rest
+  rain  examples/sedimentation/rain.toml, the main job: rain until 0.2 kg, then at rest
 
-  /usr/bin/python3 bench/integrators.py [build/tsubu] [--only i|ii] [--until T] [--side-by-side]
+Each workload runs block_hermite (its default step rules, at the largest step dt given
+below) and velocity Verlet at the largest step that completes it, side by side: both start at
+the same time, one per core, one thread each, so that on an otherwise idle 2-core machine
+both see the same machine. --pairs N repeats that N times and reports every pair's ratio,
+the median and the spread. Velocity Verlet at twice its step runs after (it fails on i and
+ii, which is why its step is what it is), with --check-larger-step.
 
---until T ends each run of the workload at T seconds of simulated time instead (the full
-settling of (ii) takes block steps about an hour). --side-by-side runs block steps and
-velocity Verlet at 1 us at the same time, one per core, and the other runs after: the two
-then share the machine's state, and the ratio of their times is fair on a 2-core machine
-that is otherwise idle (each still runs on one thread).
+  /usr/bin/python3 bench/integrators.py [build/tsubu] [--only i,poly,...] [--until T]
+      [--pairs N] [--check-larger-step]
+
+Writes bench/results/integrators[-<only>][-to-<T>s].csv (one row per run) and prints, per
+workload, the ratios of evaluations and of wall time, the cost of a block-step particle force
+evaluation as a multiple of a velocity Verlet particle-step, and the accuracy measures side
+by side (kinetic energy and contacts at the end; for the sedimentation runs the deposit's
+porosity, coordination and segregation at rest).
 """
-import csv, json, os, subprocess, sys, time
+import csv, json, os, statistics, subprocess, sys, time
 from concurrent.futures import ThreadPoolExecutor
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
 def option(name):
     return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else None
 
 
-values = {option("--only"), option("--until")}
+values = {option("--only"), option("--until"), option("--pairs")}
 tsubu = next((a for a in sys.argv[1:] if not a.startswith("--") and a not in values), os.path.join(root, "build", "tsubu"))
-only = option("--only")
+only = option("--only").split(",") if option("--only") else None
 until = float(option("--until")) if option("--until") else None
-side_by_side = "--side-by-side" in sys.argv
-scenario = os.path.join(root, "bench", "hermite-cloud.toml")
+pairs = int(option("--pairs") or 1)
+check_larger = "--check-larger-step" in sys.argv
 out_root = os.path.join(root, "out", "bench-integrators")
 
-WORKLOADS = {"i": 0.1, "ii": 1.5}
-RUNS = [("block_hermite", None), ("velocity_verlet", 1e-6), ("velocity_verlet", 2e-6)]
+CLOUD = os.path.join(root, "bench", "hermite-cloud.toml")
+POLY = os.path.join(root, "examples", "sedimentation", "poly.toml")
+RAIN = os.path.join(root, "examples", "sedimentation", "rain.toml")
+# workload: scenario, duration (None: the scenario's own stop), block-step dt, velocity Verlet dt
+WORKLOADS = {"i": (CLOUD, 0.1, 1e-3, 1e-6), "ii": (CLOUD, 1.5, 1e-3, 1e-6),
+             "poly": (POLY, None, 1e-3, 5e-7), "rain": (RAIN, None, 1e-3, 2e-6)}
+RESULTS = ["porosity", "porosity_standard_error", "coordination", "gamma_upper", "gamma_lower", "deposit_height",
+           "deposit_solid_fraction", "deposit_coordination"]
 
 
-def run(workload, integrator, dt):
-    name = f"{workload}-{integrator}" + (f"-{dt:g}" if dt else "")
+def run(workload, integrator, dt, pair):
+    scenario, duration, _, _ = WORKLOADS[workload]
+    name = f"{workload}-{integrator}-{dt:g}-{pair}"
     out = os.path.join(out_root, name)
-    args = [tsubu, "run", scenario, "--out", out, "--overwrite", "--set", f"simulation.duration={until or WORKLOADS[workload]}",
-            "--set", f'simulation.integrator="{integrator}"']
-    if dt:
-        args += ["--set", f"simulation.dt={dt}"]
+    args = [tsubu, "run", scenario, "--out", out, "--overwrite", "--set", f'simulation.integrator="{integrator}"',
+            "--set", f"simulation.dt={dt}"]
+    if until or duration:
+        args += ["--set", f"simulation.duration={until or duration}"]
     start = time.monotonic()
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env={**os.environ, "OMP_NUM_THREADS": "1"})
     _, status, usage = os.wait4(proc.pid, 0)
     rc = os.waitstatus_to_exitcode(status)
     wall = time.monotonic() - start
-    cpu = usage.ru_utime
     r = json.load(open(os.path.join(out, "run.json")))
     with open(os.path.join(out, "series.csv")) as f:
         last = list(csv.DictReader(f))[-1]
     res = r.get("results", {})
-    return {"workload": workload, "integrator": integrator, "dt": dt or r["dt"], "status": r["status"], "exit": rc,
+    return {"workload": workload, "pair": pair, "integrator": integrator, "dt": dt, "status": r["status"], "exit": rc,
             "particle_force_evaluations": r["particle_force_evaluations"], "contact_evaluations": r["contact_evaluations"],
-            "wall_s": round(wall, 2), "cpu_s": round(cpu, 2), "t_end": float(last["time"]),
+            "wall_s": round(wall, 2), "cpu_s": round(usage.ru_utime, 2), "t_end": float(last["time"]),
             "kinetic_end": float(last["kinetic_translational"]), "contacts_end": int(last["contacts"]),
-            "solid_fraction": res.get("deposit_solid_fraction", ""), "coordination": res.get("deposit_coordination", ""),
-            "message": r.get("message", "")[:160]}
+            **{k: res.get(k, "") for k in RESULTS}, "message": r.get("message", "")[:160]}
+
+
+def summary(workload, runs):
+    block = [r for r in runs if r["integrator"] == "block_hermite"]
+    verlet = [r for r in runs if r["integrator"] == "velocity_verlet" and r["dt"] == WORKLOADS[workload][3]]
+    wall = [v["wall_s"] / b["wall_s"] for b, v in zip(block, verlet)]
+    cost = [(b["wall_s"] / b["particle_force_evaluations"]) / (v["wall_s"] / v["particle_force_evaluations"])
+            for b, v in zip(block, verlet)]
+    b, v = block[0], verlet[0]
+    print(f"\n{workload}: evaluations block {b['particle_force_evaluations']:.3e}, velocity Verlet "
+          f"{v['particle_force_evaluations']:.3e} ({v['particle_force_evaluations'] / b['particle_force_evaluations']:.1f}x fewer)")
+    print(f"{workload}: wall time velocity Verlet / block, pair by pair {[round(x, 3) for x in wall]}, "
+          f"median {statistics.median(wall):.3f} (min {min(wall):.3f}, max {max(wall):.3f})")
+    print(f"{workload}: a block-step evaluation costs {statistics.median(cost):.1f} velocity Verlet particle-steps "
+          f"(pairs {[round(x, 1) for x in cost]})")
+    for key in ["status", "t_end", "kinetic_end", "contacts_end"] + RESULTS:
+        if b[key] != "" or v[key] != "":
+            print(f"{workload}:   {key}: block {b[key]}, velocity Verlet {v[key]}")
 
 
 rows = []
-for w in WORKLOADS:
-    if only and w != only:
+for w, (_, _, block_dt, verlet_dt) in WORKLOADS.items():
+    if only and w not in only:
         continue
-    runs = RUNS
-    if side_by_side:
+    runs = []
+    for pair in range(1, pairs + 1):
         with ThreadPoolExecutor(2) as pool:
-            for row in pool.map(lambda r: run(w, *r), RUNS[:2]):
-                rows.append({**row, "side_by_side": True})
-                print(rows[-1], flush=True)
-        runs = RUNS[2:]
-    for integrator, dt in runs:
-        rows.append(run(w, integrator, dt))
-        print(rows[-1], flush=True)
+            both = [("block_hermite", block_dt), ("velocity_verlet", verlet_dt)]
+            for row in pool.map(lambda r: run(w, *r, pair), both):
+                runs.append({**row, "side_by_side": True})
+                print(runs[-1], flush=True)
+    if check_larger:
+        runs.append(run(w, "velocity_verlet", 2 * verlet_dt, 1))
+        print(runs[-1], flush=True)
+    summary(w, runs)
+    rows += runs
 os.makedirs(os.path.join(root, "bench", "results"), exist_ok=True)
-path = os.path.join(root, "bench", "results",
-                    "integrators" + (f"-{only}" if only else "") + (f"-to-{until:g}s" if until else "") + ".csv")
+suffix = ("-" + "-".join(only) if only else "") + (f"-to-{until:g}s" if until else "")
+path = os.path.join(root, "bench", "results", f"integrators{suffix}.csv")
 with open(path, "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for r in rows for k in r)), restval="")
     w.writeheader()

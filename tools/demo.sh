@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: build tsubu, rain ~1000 quartz grains of 3-10 mm into still water at a given
-# flux with block steps until 0.2 kg have entered and the deposit is at rest
-# (examples/sedimentation/rain.toml, about 10 minutes of one core once built), and draw the
+# flux until 0.2 kg have entered and the deposit is at rest (examples/sedimentation/rain.toml,
+# about a minute and a half of one core once built), and draw the
 # deposit with its porosity and grading profiles.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
