@@ -12,11 +12,13 @@ namespace tsubu {
 
 // Velocity of particle i's surface at the contact point relative to its partner's, from the
 // centres' relative velocity and the spins (the point lies arm_i from i's centre along -n
-// and arm_j from j's along +n; a wall has no spin and arm_j = 0).
+// and arm_j from j's along +n; a wall has no spin and arm_j = 0). The spins' part is summed
+// first, so that the pair seen from j (n, v_centres and the two parts negated) gets this
+// velocity negated to the bit: a pair's forces do not depend on which particle comes first.
 template <class T>
 Vector<T> contact_point_velocity(const Vector<T>& n, const T& arm_i, const T& arm_j, const Vector<T>& v_centres,
                                  const Vector<T>& wi, const Vector<T>& wj) {
-  return v_centres + cross(wi, -arm_i * n) - cross(wj, arm_j * n);
+  return v_centres + (cross(wi, -arm_i * n) - cross(wj, arm_j * n));
 }
 
 // Time until a gap closes at approach speed v and approach acceleration a (both along the

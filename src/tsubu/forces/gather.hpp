@@ -16,21 +16,23 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
   const Particles& p = world.particles;
   const double r = p.radius[i];
   const auto& pairs = world.contacts.pairs();
-  // Listed pairs that do not touch hold zeros and are added without a test (no branch to miss).
+  // Listed pairs that do not touch hold zeros and are added without a test, and the side a
+  // pair is seen from (its partners come in id order, the sides mixed) is a sign, not a
+  // branch: no branch to miss. Adding -f is subtracting f, to the bit.
   world.contacts.for_each_contact_of(i, [&](std::uint32_t k, int side) {
     const Results& res = side == 0 ? wall_results_ : pair_results_;
     const Results::Entry& e = res.entry[k];
-    if (side < 0) g.force -= e.force_i;  // i is the pair's j: the reaction
-    else g.force += e.force_i;
+    const bool reaction = side < 0;  // i is the pair's j
+    g.force += (reaction ? -1.0 : 1.0) * e.force_i;
     g.torque += res.torque(k, r);
-    (side < 0 ? g.count : g.own) += e.delta > 0;
+    const bool touch = e.delta > 0;
+    g.count += reaction && touch, g.own += !reaction && touch;
     g.deepest = std::max(g.deepest, e.delta);
     if constexpr (!WithRates) {
       if (shifts_) g.shift += side < 0 ? res.shift_j[k] : res.shift_i[k];
     } else {
       const Rates& rt = side == 0 ? wall_rates_[k] : pair_rates_[k];
-      if (side < 0) g.force_rate -= rt.force_i;
-      else g.force_rate += rt.force_i;
+      g.force_rate += (reaction ? -1.0 : 1.0) * rt.force_i;
       // d/dt of -(r - delta/2) (n x F_t)
       g.torque_rate += (0.5 * rt.delta) * e.n_x_ft - (r - 0.5 * e.delta) * rt.n_x_ft;
       g.evaluated += e.delta > 0 && (side >= 0 || !(*is_active)[pairs[k].i]);  // once per contact

@@ -71,13 +71,21 @@ void ContactList::sort_by_pair(std::vector<Contact>& list, std::vector<std::uint
 void ContactList::index(const Particles& p) {
   const std::size_t n = p.size();
   for (Contact& c : pairs_) c.turned = p.id[c.i] > p.id[c.j];
-  auto first = [](const Contact& c) { return c.i; };
-  count_starts(pairs_, n, first, first_start_);
-  count_starts(pairs_, n, [](const Contact& c) { return c.j; }, second_start_);
-  second_index_.resize(pairs_.size());
-  std::vector<std::uint32_t> fill(second_start_.begin(), second_start_.end() - 1);
-  for (std::uint32_t k = 0; k < pairs_.size(); ++k) second_index_[fill[pairs_[k].j]++] = k;
-  count_starts(walls_, n, first, wall_start_);
+  incident_start_.assign(n + 1, 0);
+  for (const Contact& c : pairs_) ++incident_start_[c.i + 1], ++incident_start_[c.j + 1];
+  for (std::size_t i = 0; i < n; ++i) incident_start_[i + 1] += incident_start_[i];
+  incident_.resize(2 * pairs_.size());
+  std::vector<std::uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
+  for (std::uint32_t k = 0; k < pairs_.size(); ++k) {
+    incident_[fill[pairs_[k].i]++] = 2 * k;
+    incident_[fill[pairs_[k].j]++] = 2 * k + 1;
+  }
+  // Each particle's pairs by their partners' ids: the gather's summation order (ids are unique).
+  const auto partner_id = [&](std::uint32_t e) { return p.id[(e & 1) ? pairs_[e >> 1].i : pairs_[e >> 1].j]; };
+  for (std::size_t i = 0; i < n; ++i)
+    std::sort(incident_.begin() + incident_start_[i], incident_.begin() + incident_start_[i + 1],
+              [&](std::uint32_t a, std::uint32_t b) { return partner_id(a) < partner_id(b); });
+  count_starts(walls_, n, [](const Contact& c) { return c.i; }, wall_start_);
 }
 
 }  // namespace tsubu

@@ -5,8 +5,10 @@
 //
 // A pair's identity and orientation come from the particles' ids, not their indices: its
 // history is stored as seen from the particle with the smaller id, so renumbering never
-// changes it. The lists themselves stay ordered by index, which fixes the gather's
-// summation order.
+// changes it. The lists are ordered by index; a particle's pairs are visited in the order of
+// their partners' ids, which fixes the gather's summation order whatever the numbering: a
+// run renumbered (spatial sort), or split among processes, sums every force in the same
+// order and keeps its bits.
 #pragma once
 #include <bit>
 #include <cstdint>
@@ -115,36 +117,38 @@ class ContactList {
   // after the lists changed; release_index() frees the index (before a search, to lower the
   // peak memory).
   void index(const Particles& p);
-  void release_index() { first_start_ = {}, second_start_ = {}, second_index_ = {}, wall_start_ = {}; }
+  void release_index() { incident_start_ = {}, incident_ = {}, wall_start_ = {}; }
 
   // f(partner, k) for every listed pair k of particle i.
   template <class F>
   void for_each_pair_of(std::size_t i, F&& f) const {
-    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) f(pairs_[second_index_[s]].i, second_index_[s]);
-    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) f(pairs_[k].j, k);
+    for (std::uint32_t s = incident_start_[i]; s < incident_start_[i + 1]; ++s) {
+      const std::uint32_t k = incident_[s] >> 1;
+      f((incident_[s] & 1) ? pairs_[k].i : pairs_[k].j, k);
+    }
   }
   // f(wall, k) for every listed wall contact k of particle i.
   template <class F>
   void for_each_wall_of(std::size_t i, F&& f) const {
     for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) f(walls_[k].j, k);
   }
-  // visit(k, side) for particle i's entries in the gather's order: pairs where i is second
-  // (side -1), pairs where it is first (+1), walls (0); each group in ascending k.
+  // visit(k, side) for particle i's entries in the gather's order: its pairs by their
+  // partners' ids (side -1 where i is the pair's second, +1 where it is the first), then its
+  // walls (side 0) in the walls' order.
   template <class Visit>
   [[gnu::always_inline]] void for_each_contact_of(std::size_t i, Visit&& visit) const {
-    for (std::uint32_t s = second_start_[i]; s < second_start_[i + 1]; ++s) visit(second_index_[s], -1);
-    for (std::uint32_t k = first_start_[i]; k < first_start_[i + 1]; ++k) visit(k, 1);
+    for (std::uint32_t s = incident_start_[i]; s < incident_start_[i + 1]; ++s)
+      visit(incident_[s] >> 1, (incident_[s] & 1) ? -1 : 1);
     for (std::uint32_t k = wall_start_[i]; k < wall_start_[i + 1]; ++k) visit(k, 0);
   }
 
  private:
   std::vector<Contact> pairs_, walls_;
   std::vector<std::uint32_t> pair_origin_, wall_origin_;
-  // The lists are sorted by (i, j), so the pairs where particle i is the first are the range
-  // [first_start_[i], first_start_[i+1]), and those where it is the second, which all come
-  // before them, are second_index_[second_start_[i] .. second_start_[i+1]). Its walls:
-  // [wall_start_[i], wall_start_[i+1]).
-  std::vector<std::uint32_t> first_start_, second_start_, second_index_, wall_start_;
+  // Particle i's pairs are incident_[incident_start_[i] .. incident_start_[i+1]), each 2k + 1
+  // where i is pair k's second and 2k where it is its first, in the order of the partners'
+  // ids. The walls are sorted by (i, j): particle i's are [wall_start_[i], wall_start_[i+1]).
+  std::vector<std::uint32_t> incident_start_, incident_, wall_start_;
 
   static std::vector<Contact> carry(const std::vector<Pair>& found, const std::vector<Contact>& old,
                                     std::vector<std::uint32_t>& origin);
