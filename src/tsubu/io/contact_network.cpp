@@ -1,6 +1,8 @@
 #include "tsubu/io/contact_network.hpp"
 
+#include <algorithm>
 #include <iomanip>
+#include <tuple>
 
 #include "tsubu/io/checked_file.hpp"
 
@@ -12,25 +14,36 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
   out.reserve(contacts.size());
   for (const ContactRecord& c : contacts) {
     NetworkContact n;
-    n.id_i = p.id[c.i];
-    n.centre_i = p.position[c.i];
+    // A pair seen from its particle with the smaller id (the forces on it: the record's
+    // negated, to the bit, when that is the record's j).
+    const bool turned = !c.wall && p.id[c.j] < p.id[c.i];
+    const std::size_t i = turned ? c.j : c.i;
+    const double sign = turned ? -1.0 : 1.0;
+    n.id_i = p.id[i];
+    n.centre_i = p.position[i];
     if (c.wall) {
       n.wall = static_cast<int>(c.j);
       const Wall& w = world.walls[c.j];
       n.branch = -w.distance(n.centre_i) * w.normal;  // the foot of the centre on the plane
     } else {
-      n.id_j = p.id[c.j];
-      n.branch = -world.domain.separation(n.centre_i, p.position[c.j]);
+      const std::size_t j = turned ? c.i : c.j;
+      n.id_j = p.id[j];
+      n.branch = -world.domain.separation(n.centre_i, p.position[j]);
     }
     // Pairs: the lever arm of the torques, r_i - overlap/2 along the line of centres.
-    const double arm = c.wall ? norm(n.branch) : p.radius[c.i] - 0.5 * c.overlap;
+    const double arm = c.wall ? norm(n.branch) : p.radius[i] - 0.5 * c.overlap;
     n.point = n.centre_i + (arm / norm(n.branch)) * n.branch;
-    n.normal_force = c.normal_force;
-    n.tangential_force = c.tangential_force;
+    n.normal_force = sign * c.normal_force;
+    n.tangential_force = sign * c.tangential_force;
     n.overlap = c.overlap;
-    n.history = c.history;
+    n.history = c.history;  // as the law saw it, from the record's i: turned, the spring negated back
+    if (turned) n.history.xi = -n.history.xi;
     out.push_back(n);
   }
+  // Pairs by (id_i, id_j), then walls by (id, wall): the same file whatever the numbering.
+  std::sort(out.begin(), out.end(), [](const NetworkContact& a, const NetworkContact& b) {
+    return std::tuple(a.wall >= 0, a.id_i, a.id_j, a.wall) < std::tuple(b.wall >= 0, b.id_i, b.id_j, b.wall);
+  });
   return out;
 }
 

@@ -22,7 +22,9 @@ struct NetworkContact {
   ContactHistory history;
 };
 
-// The network from the force field's contacts (ForceField::touching_contacts), in their order.
+// The network from the force field's contacts (ForceField::touching_contacts): each pair seen
+// from its particle with the smaller id, pairs by their ids, then walls by particle id and
+// wall: the same whatever the particles' numbering.
 std::vector<NetworkContact> contact_network(const World& world, const std::vector<ContactRecord>& contacts);
 
 // One row per contact, a header naming each column with its unit. Checked writes.

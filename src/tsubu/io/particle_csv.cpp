@@ -1,8 +1,6 @@
 #include "tsubu/io/particle_csv.hpp"
 
-#include <algorithm>
 #include <iomanip>
-#include <numeric>
 #include <vector>
 
 #include "tsubu/io/checked_file.hpp"
@@ -10,9 +8,7 @@
 namespace tsubu {
 
 void write_particles_csv(const std::string& path, const Particles& p) {
-  std::vector<std::size_t> order(p.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  const std::vector<std::size_t> order = p.in_id_order();
   CheckedFile f(path);
   f << "id,material,radius[m],x[m],y[m],z[m],vx[m/s],vy[m/s],vz[m/s],wx[rad/s],wy[rad/s],wz[rad/s]\n"
     << std::setprecision(17);  // reads back as the same doubles

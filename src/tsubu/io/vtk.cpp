@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iomanip>
+#include <type_traits>
 
 #include "tsubu/io/checked_file.hpp"
 
@@ -78,20 +79,27 @@ void open_polydata(std::ostream& f, double time, const char* kind, std::size_t c
 
 void write_vtu(const std::string& path, const Particles& p, double time) {
   const std::size_t n = p.size();
+  // In the order of the ids, whatever the particles' numbering.
+  const std::vector<std::size_t> order = p.in_id_order();
+  const auto in_order = [&](const auto& array) {
+    std::vector<std::decay_t<decltype(array[0])>> out(n);
+    for (std::size_t k = 0; k < n; ++k) out[k] = array[order[k]];
+    return out;
+  };
   CheckedFile f(path);
   open_dataset(f, "UnstructuredGrid", time);
   f << "<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n<PointData Scalars=\"diameter\" Vectors=\"velocity\">\n";
-  data_array(f, "Int64", "id", 1, p.id);
-  data_array(f, "Int32", "material", 1, p.material);
+  data_array(f, "Int64", "id", 1, in_order(p.id));
+  data_array(f, "Int32", "material", 1, in_order(p.material));
   std::vector<double> diameter(n);
-  for (std::size_t i = 0; i < n; ++i) diameter[i] = 2 * p.radius[i];
+  for (std::size_t k = 0; k < n; ++k) diameter[k] = 2 * p.radius[order[k]];
   data_array(f, "Float64", "diameter", 1, diameter);
-  vec_array(f, "velocity", p.velocity);
-  vec_array(f, "angular_velocity", p.omega);
-  vec_array(f, "force", p.force);
-  data_array(f, "Int32", "contact_count", 1, p.contact_count);
+  vec_array(f, "velocity", in_order(p.velocity));
+  vec_array(f, "angular_velocity", in_order(p.omega));
+  vec_array(f, "force", in_order(p.force));
+  data_array(f, "Int32", "contact_count", 1, in_order(p.contact_count));
   f << "</PointData>\n<Points>\n";
-  vec_array(f, "position", p.position);
+  vec_array(f, "position", in_order(p.position));
   f << "</Points>\n<Cells>\n";
   std::vector<std::int64_t> connectivity(n), offsets(n);
   std::vector<std::uint8_t> types(n, 1);  // VTK_VERTEX

@@ -1,5 +1,6 @@
 // The particle store: one array per quantity (structure of arrays), indexed 0..size()-1.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -37,6 +38,10 @@ struct Particles {
   template <class F>
   void for_each_array(F&& f) const { each_array(*this, f); }
 
+  // The indices in the order of the ids: the order every output lists particles in, so that
+  // a file does not depend on how the particles are numbered (a spatial sort, processes).
+  std::vector<std::size_t> in_id_order() const;
+
   void add(std::int64_t pid, int mat, double diameter, double density, const Vec3& x, const Vec3& v) {
     const double r = 0.5 * diameter;
     const double m = density * (4.0 / 3.0) * M_PI * r * r * r;
@@ -61,5 +66,12 @@ struct Particles {
     f(p.position), f(p.velocity), f(p.omega), f(p.force), f(p.torque), f(p.contact_count);
   }
 };
+
+inline std::vector<std::size_t> Particles::in_id_order() const {
+  std::vector<std::size_t> order(size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+  return order;
+}
 
 }  // namespace tsubu
