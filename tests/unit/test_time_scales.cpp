@@ -181,6 +181,12 @@ TEST(TimeScales, CheckAndRunPrintTheWarning) {
 
   ASSERT_EQ(run({"check", kValidSmall}, log), 0) << slurp(log);
   EXPECT_EQ(slurp(log).find("WARNING"), std::string::npos) << slurp(log);
+  EXPECT_EQ(slurp(log).find("block steps pay off"), std::string::npos) << "velocity Verlet gets no integrator hint";
+
+  // Block steps with contacts: the hint that velocity Verlet is faster where grains rest in contact.
+  ASSERT_EQ(run({"check", kValidSmall, "--set", "simulation.integrator=\"block_hermite\"", "--set", "simulation.dt=1e-3"}, log), 0)
+      << slurp(log);
+  EXPECT_NE(slurp(log).find("block steps pay off while most grains fly free"), std::string::npos) << slurp(log);
 }
 
 // An inflow's smallest grain is its size distribution's (SizeDistribution::smallest), for
