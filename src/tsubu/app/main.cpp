@@ -60,8 +60,8 @@ void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int thread
     std::printf("  %.3g steps per shortest contact\n", ts.shortest_contact / sc.dt);
   if (std::isfinite(ts.shortest_contact) && sc.integrator == tsubu::Integrator::block_hermite)
     std::printf("  block steps pay off while most grains fly free; where they rest in contact (a deposit, a packing) "
-                "velocity Verlet was 2.6-8 times faster on the workloads measured (docs/integrators.md, \"Cost against "
-                "velocity Verlet\"): check with --set 'simulation.integrator=\"velocity_verlet\"' for its dt\n");
+                "velocity Verlet was several times faster on the workloads measured (docs/integrators.md, \"Cost "
+                "against velocity Verlet\"): check with --set 'simulation.integrator=\"velocity_verlet\"' for its dt\n");
   std::printf("steps: %lld\n", static_cast<long long>(ts.steps));
   const tsubu::WallTimeEstimate e = tsubu::estimate_wall_time(sc, std::move(world), 300, 1.0);
   const char* stop = sc.stops.empty() ? "" : "; to the duration: a [[stop]] may end the run sooner";

@@ -25,16 +25,20 @@ T interpolate(const std::vector<double>& xs, const std::vector<double>& ys, T x)
   return T(ys[k - 1]) + T(slope) * (x - T(xs[k - 1]));
 }
 
+constexpr double kSchillerNaumannExponent = 0.687;  // Re C_D = 24 + 3.6 Re^0.687 (Eq. 5)
+
 // Re C_D(Re): finite at Re = 0 (24), so the drag 1/2 rho S C_D |u| u = 1/2 rho S (nu/d) (Re C_D) u
 // is smooth through u = 0. Schiller-Naumann up to cap_re (Fluid::cap_re), 0.44 above.
 template <class T>
 T re_times_cd(T re, double cap_re) {
-  if (value(re) <= cap_re) return T(24.0) + T(3.6) * pow(re, 0.687);
+  if (value(re) <= cap_re) return T(24.0) + T(3.6) * pow(re, kSchillerNaumannExponent);
   return T(0.44) * re;
 }
 
 // Re d(Re C_D)/dRe, from Re C_D = rc at re: 0.687 (rc - 24) on Schiller-Naumann, rc above the cap.
-double re_times_cd_slope(double rc, double re, double cap_re) { return re <= cap_re ? 0.687 * (rc - 24.0) : rc; }
+double re_times_cd_slope(double rc, double re, double cap_re) {
+  return re <= cap_re ? kSchillerNaumannExponent * (rc - 24.0) : rc;
+}
 
 template <class T>
 T loth(T re, T rr) {

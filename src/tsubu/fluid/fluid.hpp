@@ -94,8 +94,8 @@ struct FluidSlope {
   Vec3 force_change(const Vec3& du) const { return -(drag * du + drag_speed * dot(direction, du) * direction); }
   Vec3 torque_change(const Vec3& domega) const { return -spin_drag * domega; }
   // The drag relaxation time (drag_relaxation_time) of translational mass m at speed
-  // `speed`, from K moved along its slope to that speed.
-  double relaxation_time(double m, double speed) const;
+  // `at_speed`, from K moved along its slope to that speed.
+  double relaxation_time(double m, double at_speed) const;
 };
 
 // Both at once (one evaluation on Duals; the values agree with fluid_load to round-off), and,

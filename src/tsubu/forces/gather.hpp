@@ -29,18 +29,18 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
     g.count += reaction && touch, g.own += !reaction && touch;
     g.deepest = std::max(g.deepest, e.delta);
     if constexpr (!WithRates) {
-      if (shifts_) g.shift += side < 0 ? res.shift_j[k] : res.shift_i[k];
+      if (shifts_) g.shift += reaction ? res.shift_j[k] : res.shift_i[k];
     } else {
       const Rates& rt = side == 0 ? wall_rates_[k] : pair_rates_[k];
       g.force_rate += (reaction ? -1.0 : 1.0) * rt.force_i;
       // d/dt of -(r - delta/2) (n x F_t)
       g.torque_rate += (0.5 * rt.delta) * e.n_x_ft - (r - 0.5 * e.delta) * rt.n_x_ft;
-      g.evaluated += e.delta > 0 && (side >= 0 || !(*is_active)[pairs[k].i]);  // once per contact
+      g.evaluated += touch && (!reaction || !(*is_active)[pairs[k].i]);  // once per contact
       g.bound = std::min(g.bound, rt.step_bound);
       if (rt.touched_for > 0) ++g.began, g.touched_for = rt.touched_for;
       if (rt.released_for > 0) ++g.ended, g.released_for = rt.released_for;
-      if (e.delta > 0) {
-        const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[side < 0 ? pairs[k].i : pairs[k].j];
+      if (touch) {
+        const double m_j = side == 0 ? std::numeric_limits<double>::infinity() : p.mass[reaction ? pairs[k].i : pairs[k].j];
         g.damping_over_mass += std::max(rt.damping, 3.5 * rt.tangential_damping) * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
       }
     }

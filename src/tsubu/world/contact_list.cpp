@@ -81,10 +81,9 @@ void ContactList::index(const Particles& p) {
     incident_[fill[pairs_[k].j]++] = 2 * k + 1;
   }
   // Each particle's pairs by their partners' ids: the gather's summation order (ids are unique).
-  const auto partner_id = [&](std::uint32_t e) { return p.id[(e & 1) ? pairs_[e >> 1].i : pairs_[e >> 1].j]; };
   for (std::size_t i = 0; i < n; ++i)
     std::sort(incident_.begin() + incident_start_[i], incident_.begin() + incident_start_[i + 1],
-              [&](std::uint32_t a, std::uint32_t b) { return partner_id(a) < partner_id(b); });
+              [&](std::uint32_t a, std::uint32_t b) { return p.id[partner(a)] < p.id[partner(b)]; });
   count_starts(walls_, n, [](const Contact& c) { return c.i; }, wall_start_);
 }
 

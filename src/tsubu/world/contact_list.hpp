@@ -122,10 +122,7 @@ class ContactList {
   // f(partner, k) for every listed pair k of particle i.
   template <class F>
   void for_each_pair_of(std::size_t i, F&& f) const {
-    for (std::uint32_t s = incident_start_[i]; s < incident_start_[i + 1]; ++s) {
-      const std::uint32_t k = incident_[s] >> 1;
-      f((incident_[s] & 1) ? pairs_[k].i : pairs_[k].j, k);
-    }
+    for (std::uint32_t s = incident_start_[i]; s < incident_start_[i + 1]; ++s) f(partner(incident_[s]), incident_[s] >> 1);
   }
   // f(wall, k) for every listed wall contact k of particle i.
   template <class F>
@@ -149,6 +146,8 @@ class ContactList {
   // where i is pair k's second and 2k where it is its first, in the order of the partners'
   // ids. The walls are sorted by (i, j): particle i's are [wall_start_[i], wall_start_[i+1]).
   std::vector<std::uint32_t> incident_start_, incident_, wall_start_;
+  // The other particle of an incident_ entry.
+  std::uint32_t partner(std::uint32_t e) const { return (e & 1) ? pairs_[e >> 1].i : pairs_[e >> 1].j; }
 
   static std::vector<Contact> carry(const std::vector<Pair>& found, const std::vector<Contact>& old,
                                     std::vector<std::uint32_t>& origin);
