@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu/core/hash.hpp"
+#include "final_state.hpp"
 #include "tsubu_process.hpp"
 
 namespace fs = std::filesystem;
@@ -49,25 +52,6 @@ int interrupt_after_first_checkpoint(pid_t pid, const fs::path& out, int sig, in
   return wait_for(pid);
 }
 
-// The newest checkpoint without what depends on when the sessions ran and rebuilt their
-// neighbour lists: the wall time, the rebuild count and the listed pairs that do not touch
-// (their history is empty; touching pairs and their histories must agree); and without the
-// run id, which is each run's own. `extended`: also without the overrides and the scenario
-// hash (a run extended by a resume has the resume's --set values appended).
-std::string final_state(const fs::path& out, bool extended = false) {
-  const auto files = list_checkpoints(out / "checkpoint");
-  if (files.empty()) return "no checkpoint";
-  Checkpoint c = read_checkpoint(files.front());
-  if (extended) c.overrides.clear(), c.scenario_hash = 0;
-  c.wall_seconds = 0;
-  c.record.loop_seconds = 0;  // timings, and the sessions that took them
-  c.record.loop_sessions = 0;
-  c.rebuilds = 0;
-  c.run_id.clear();
-  std::erase_if(c.pair_contacts, [](const Contact& k) { return !k.touching; });
-  std::erase_if(c.wall_contacts, [](const Contact& k) { return !k.touching; });
-  return encode_checkpoint(c);
-}
 
 // Every output file of `ref` is in `out` with the same bytes, and the final states agree.
 void expect_same_outputs(const fs::path& ref, const fs::path& out, bool extended = false) {
@@ -122,7 +106,7 @@ Checkpoint sample_checkpoint() {
   c.wall_seconds = 1.5;
   c.output = {3, {{0.0, "frame_00000.vtu"}, {0.1, "frame_00001.vtu"}}, 1234, 567};
   for (int k = 0; k < 3; ++k) {
-    c.particles.add(k, k % 2, 0.001 * (k + 1), 2500, {0.1 * k, 0.2, 0.3}, {1, 2, 3.0 + k});
+    c.particles.add(7000 + k, k % 2, 0.001 * (k + 1), 2500, {0.1 * k, 0.2, 0.3}, {1, 2, 3.0 + k});
     c.particles.omega[k] = {0.5, -0.25, 1.0 / 3.0};
     c.particles.force[k] = {1e-3, 2e-3, -9.81};
     c.particles.torque[k] = {std::nextafter(1.0, 2.0), 0, -1e-300};
@@ -131,7 +115,7 @@ Checkpoint sample_checkpoint() {
   c.wall_points = {{0, 0, 0}, {0, 0, 0.026 - 1e-5 / 3}};
   c.wall_velocities = {{}, {0, 0, -0.1}};
   Contact a{0, 2, true, false, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
-  Contact b{1, 0, false, false, {}};
+  Contact b{1, 0, true, false, {{-4e-8, 0, 5e-8}, {0.125, 0}}};
   c.pair_contacts = {a};
   c.wall_contacts = {b};
   return c;
@@ -153,6 +137,71 @@ TEST(CheckpointFormat, RoundTripsEveryFieldBitForBit) {
   EXPECT_TRUE(d.pair_contacts[0].touching);
   EXPECT_EQ(d.wall_points[1], c.wall_points[1]);
   EXPECT_EQ(d.wall_velocities[1], c.wall_velocities[1]);
+}
+
+// The file lists the particles by id and only the touching contacts, each pair from its
+// smaller id: a run numbered otherwise (a spatial sort) or whose lists hold more entries
+// (built at another step) writes the same bytes, and reads back in id order.
+TEST(CheckpointFormat, TheBytesDoNotDependOnTheNumberingOrOnEntriesThatDoNotTouch) {
+  const Checkpoint c = sample_checkpoint();
+  Checkpoint r = sample_checkpoint();  // particles 7000, 7001, 7002 at indices 2, 0, 1
+  const std::size_t at[3] = {2, 0, 1};
+  r.particles.for_each_array([&](auto& array) {
+    auto copy = array;
+    for (std::size_t k = 0; k < 3; ++k) array[at[k]] = copy[k];
+  });
+  r.pair_contacts = {{0, 1, false, false, {}}, {1, 2, true, false, c.pair_contacts[0].history}};  // ids (7002, 7000)
+  r.wall_contacts = {{0, 0, true, false, c.wall_contacts[0].history}, {1, 1, false, false, {}}};
+  const std::string bytes = encode_checkpoint(c);
+  EXPECT_TRUE(encode_checkpoint(r) == bytes);
+  const Checkpoint d = decode_checkpoint(encode_checkpoint(r));
+  EXPECT_EQ(d.particles.id, (std::vector<std::int64_t>{7000, 7001, 7002}));
+  ASSERT_EQ(d.pair_contacts.size(), 1u);
+  EXPECT_EQ(d.pair_contacts[0].i, 0u);
+  EXPECT_EQ(d.pair_contacts[0].j, 2u);
+  EXPECT_TRUE(d.pair_contacts[0].touching);
+  EXPECT_EQ(d.pair_contacts[0].history.xi, c.pair_contacts[0].history.xi) << "stored by id: no turn";
+  ASSERT_EQ(d.wall_contacts.size(), 1u);
+  EXPECT_EQ(d.wall_contacts[0].i, 1u);
+}
+
+// A payload out of the file's order is refused (its checksum made to match): particles not
+// by id, a pair listed from its second particle, contacts out of (i, j) order.
+TEST(CheckpointFormat, APayloadOutOfTheFilesOrderIsRefused) {
+  const auto patched = [](std::string bytes, const std::string& from, const std::string& to) {
+    const std::size_t at = bytes.find(from);
+    EXPECT_NE(at, std::string::npos);
+    EXPECT_EQ(bytes.find(from, at + 1), std::string::npos);
+    bytes.replace(at, from.size(), to);
+    const std::uint64_t sum = fnv1a64({bytes.data() + 32, bytes.size() - 32});
+    std::memcpy(bytes.data() + 24, &sum, 8);
+    return bytes;
+  };
+  const auto raw = [](auto... values) {
+    std::string s;
+    ((s.append(reinterpret_cast<const char*>(&values), sizeof values)), ...);
+    return s;
+  };
+  auto refused = [](const std::string& b, const std::string& phrase) {
+    try {
+      decode_checkpoint(b);
+      ADD_FAILURE() << "accepted; expected: " << phrase;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  };
+  Checkpoint c = sample_checkpoint();
+  const std::string bytes = encode_checkpoint(c);
+  ASSERT_NO_THROW(decode_checkpoint(bytes));
+  refused(patched(bytes, raw(std::int64_t{7000}, std::int64_t{7001}), raw(std::int64_t{7001}, std::int64_t{7000})),
+          "not in the order of their ids");
+  refused(patched(bytes, raw(std::uint32_t{0}, std::uint32_t{2}, c.pair_contacts[0].history.xi),
+                  raw(std::uint32_t{2}, std::uint32_t{0}, c.pair_contacts[0].history.xi)),
+          "not listed from its first particle");
+  c.pair_contacts.push_back({1, 2, true, false, {{7e-9, 0, 0}, {0, 0}}});
+  refused(patched(encode_checkpoint(c), raw(std::uint32_t{1}, std::uint32_t{2}, Vec3{7e-9, 0, 0}),
+                  raw(std::uint32_t{0}, std::uint32_t{1}, Vec3{7e-9, 0, 0})),
+          "not sorted by (i, j)");
 }
 
 TEST(CheckpointFormat, ParticlesWithLittleElseAfterThemRoundTrip) {
@@ -230,10 +279,11 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
 
 // An older version's files are refused, saying that an older tsubu wrote them (version 2
 // stored a pair's spring as seen from its smaller index: the same bytes with another meaning;
-// version 3 lacks the block steps' counts of steps by rule).
+// version 3 lacks the block steps' counts of steps by rule; version 4 has a touching flag
+// per contact).
 TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
-  ASSERT_EQ(kCheckpointVersion, 4u);
-  for (char version : {2, 3}) {
+  ASSERT_EQ(kCheckpointVersion, 5u);
+  for (char version : {2, 3, 4}) {
     std::string old = encode_checkpoint(sample_checkpoint());
     old[8] = version;
     try {
@@ -241,7 +291,7 @@ TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
       ADD_FAILURE() << "accepted a version " << int(version) << " checkpoint";
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version) +
-                                           ", this tsubu reads version 4 (an older tsubu wrote it"),
+                                           ", this tsubu reads version 5 (an older tsubu wrote it"),
                 std::string::npos)
           << e.what();
     }

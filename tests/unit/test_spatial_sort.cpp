@@ -9,6 +9,7 @@
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/world/spatial_sort.hpp"
+#include "final_state.hpp"
 #include "scenario_run.hpp"
 #include "tsubu_process.hpp"
 #include "world_builder.hpp"
@@ -128,15 +129,19 @@ TEST(SpatialSort, SortedBlockStepRunIsTheSameBits) {
 // The files a run writes do not depend on how the engine numbers its particles: sorted in
 // space every few steps or never, a run writes the same series, particle frames and contact
 // networks byte for byte (frames list the particles by id, contacts by their ids, each pair
-// seen from its smaller id), with fixed steps on a floor and periodic sides, and with block
-// steps and the inflow.
+// seen from its smaller id), and the same final checkpoint but for timings, the rebuild
+// count and the --set that differs (particles by id, touching contacts only, the energy
+// watch's sums exact; block steps credit a cluster's step to its member with the smallest
+// id): fixed steps on a floor with periodic sides, block steps with the inflow, and
+// hindered settling (each grain sums its neighbours' volumes in their ids' order).
 TEST(SpatialSort, SortedRunWritesTheSameFiles) {
   namespace fs = std::filesystem;
   const testing::TempDir tmp;
   const std::string src = TSUBU_SOURCE_DIR;
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
       {"/tests/scenarios/settle_mono.toml", {"simulation.duration=0.02", "output.vtk_interval=0.005"}},
-      {"/tests/scenarios/rain_small.toml", {"simulation.duration=0.08"}}};
+      {"/tests/scenarios/rain_small.toml", {"simulation.duration=0.08"}},
+      {"/tests/scenarios/inflow_small.toml", {"fluid.hindered_settling=true", "output.vtk_interval=0.1"}}};
   for (const auto& [scenario, sets] : cases) {
     std::vector<fs::path> out;
     for (const char* sort : {"search.sort_every=0", "search.sort_every=3"}) {
@@ -153,6 +158,7 @@ TEST(SpatialSort, SortedRunWritesTheSameFiles) {
       ++compared;
     }
     EXPECT_EQ(testing::slurp(out[0] / "series.csv"), testing::slurp(out[1] / "series.csv")) << scenario;
+    EXPECT_TRUE(testing::final_state(out[0], true) == testing::final_state(out[1], true)) << scenario << ": final checkpoints differ";
     EXPECT_GE(compared, 4) << scenario << ": frames with particles and contacts expected";
   }
 }

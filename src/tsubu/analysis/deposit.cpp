@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/exact_sum.hpp"
 #include "tsubu/core/random.hpp"
 #include "tsubu/core/stop_signal.hpp"
 #include "tsubu/search/sphere_grid.hpp"
@@ -12,9 +13,9 @@
 namespace tsubu {
 
 double solid_volume(const Packing& p, double a, double b) {
-  double solid = 0;
+  ExactSum solid;
   for (std::size_t i = 0; i < p.position.size(); ++i) solid += sphere_slab_volume(p.position[i].z, p.radius[i], a, b);
-  return solid;
+  return solid.value();
 }
 
 double solid_fraction(const Packing& p, double a, double b) { return solid_volume(p, a, b) / (p.base_area() * (b - a)); }
@@ -33,15 +34,17 @@ double surface_height(const Packing& p, const SurfaceRule& rule) {
   constexpr int steps = 8;  // per window
   const double step = rule.window / steps;
   const int bins = std::max(steps, static_cast<int>(std::ceil((rule.top - rule.floor) / step)));
-  std::vector<double> solid(static_cast<std::size_t>(bins), 0.0);  // exact volume in each bin
+  std::vector<ExactSum> bin_sums(static_cast<std::size_t>(bins));  // exact volume in each bin
   // Bin indices clamped as doubles first: a grain far outside the box casts no huge value.
   auto bin = [&](double height) { return static_cast<int>(std::clamp(std::floor((height - rule.floor) / step), -1.0, double(bins))); };
   for (std::size_t i = 0; i < p.position.size(); ++i) {
     const double z = p.position[i].z, r = p.radius[i];
     const int first = std::max(0, bin(z - r)), last = std::min(bins - 1, bin(z + r));
     for (int b = first; b <= last; ++b)
-      solid[static_cast<std::size_t>(b)] += sphere_slab_volume(z, r, rule.floor + b * step, rule.floor + (b + 1) * step);
+      bin_sums[static_cast<std::size_t>(b)] += sphere_slab_volume(z, r, rule.floor + b * step, rule.floor + (b + 1) * step);
   }
+  std::vector<double> solid;
+  for (const ExactSum& s : bin_sums) solid.push_back(s.value());
   const double volume = p.base_area() * rule.window;
   auto phi = [&](int j) {  // the window [floor + j step, floor + j step + window]
     double sum = 0;
@@ -113,13 +116,13 @@ Coordination coordination_numbers(std::span<const Vec3> position, std::span<cons
 }
 
 double small_grain_share(const Packing& p, double a, double b, double small_diameter) {
-  double small = 0, all = 0;
+  ExactSum small, all;
   for (std::size_t i = 0; i < p.position.size(); ++i) {
     const double v = sphere_slab_volume(p.position[i].z, p.radius[i], a, b);
     all += v;
     if (2 * p.radius[i] < small_diameter) small += v;
   }
-  return all > 0 ? small / all : 0.0;
+  return all.value() > 0 ? small.value() / all.value() : 0.0;
 }
 
 }  // namespace tsubu

@@ -8,7 +8,11 @@ namespace tsubu {
 MassPercentiles mass_percentiles(std::vector<SizedGrain> grains) {
   const double none = std::numeric_limits<double>::quiet_NaN();
   if (grains.empty()) return {none, none, none};
-  std::sort(grains.begin(), grains.end(), [](const SizedGrain& a, const SizedGrain& b) { return a.diameter < b.diameter; });
+  // By size, and equal sizes by mass: one order whatever the grains' numbering, so that the
+  // running sums below have the same bits.
+  std::sort(grains.begin(), grains.end(), [](const SizedGrain& a, const SizedGrain& b) {
+    return a.diameter != b.diameter ? a.diameter < b.diameter : a.mass < b.mass;
+  });
   double total = 0;
   for (const SizedGrain& g : grains) total += g.mass;
   const double q[3] = {0.1, 0.5, 0.9};

@@ -3,17 +3,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tsubu/core/exact_sum.hpp"
+
 namespace tsubu {
 
 Energies energies(const World& w, const Vec3& g) {
   const Particles& p = w.particles;
-  Energies e;
+  ExactSum translational, rotational, potential;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    e.kinetic_translational += p.translational_energy(i);
-    e.kinetic_rotational += p.rotational_energy(i);
-    e.potential_gravity -= p.mass[i] * dot(g, p.position[i]);
+    translational += p.translational_energy(i);
+    rotational += p.rotational_energy(i);
+    potential += -(p.mass[i] * dot(g, p.position[i]));
   }
-  return e;
+  return {translational.value(), rotational.value(), potential.value()};
 }
 
 double sphere_slab_volume(double z0, double r, double a, double b) {

@@ -1,6 +1,7 @@
 #include "tsubu/analysis/profiles.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -9,6 +10,7 @@
 #include <stdexcept>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/exact_sum.hpp"
 
 namespace tsubu {
 
@@ -28,9 +30,9 @@ Profiles measure_profiles(const AnalysisSpec& a, const World& w) {
   auto bound = [&](std::size_t k) { return a.z_low + (a.z_high - a.z_low) * static_cast<double>(k) / static_cast<double>(n); };
   Profiles out;
   out.grains.assign(n, 0);
-  out.class_fraction.assign(classes, std::vector<double>(n, 0.0));
-  std::vector<double> contacts(n, 0.0);
-  std::vector<Vec3> momentum_sum(n);
+  std::vector<std::vector<ExactSum>> class_volume(classes, std::vector<ExactSum>(n));
+  std::vector<double> contacts(n, 0.0);  // integers: exact in any order
+  std::vector<std::array<ExactSum, 3>> momentum_sum(n);
   std::vector<std::vector<SizedGrain>> grains(n);
   const std::vector<int> z = pair_contact_counts(w);
   // The slice holding height x (clamped to the range's ends).
@@ -40,20 +42,23 @@ Profiles measure_profiles(const AnalysisSpec& a, const World& w) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double x = p.position[i].z, r = p.radius[i];
     if (x + r <= a.z_low || x - r >= a.z_high) continue;
-    std::vector<double>& volume = out.class_fraction[size_class(a.class_edges, 2 * r)];
+    std::vector<ExactSum>& volume = class_volume[size_class(a.class_edges, 2 * r)];
     for (std::size_t k = slice_of(x - r), last = slice_of(x + r); k <= last; ++k)
       volume[k] += sphere_slab_volume(x, r, bound(k), bound(k + 1));
     if (!(x > a.z_low && x < a.z_high)) continue;
     const std::size_t k = slice_of(x);
     ++out.grains[k];
     contacts[k] += z[i];
-    momentum_sum[k] += p.velocity[i];
+    for (int c = 0; c < 3; ++c) momentum_sum[k][static_cast<std::size_t>(c)] += p.velocity[i][c];
     grains[k].push_back({2 * r, p.mass[i]});
   }
   const double area = w.domain.length(0) * w.domain.length(1), nan = std::numeric_limits<double>::quiet_NaN();
   out.velocity.assign(n, Vec3{nan, nan, nan});
   out.temperature.assign(n, nan);
   out.coordination.assign(n, nan);
+  out.class_fraction.assign(classes, std::vector<double>(n, 0.0));
+  for (std::size_t c = 0; c < classes; ++c)
+    for (std::size_t k = 0; k < n; ++k) out.class_fraction[c][k] = class_volume[c][k].value();
   for (std::size_t k = 0; k < n; ++k) {
     out.centre.push_back(0.5 * (bound(k) + bound(k + 1)));
     double solid = 0;
@@ -66,11 +71,11 @@ Profiles measure_profiles(const AnalysisSpec& a, const World& w) {
     if (out.grains[k] == 0) continue;
     const double count = static_cast<double>(out.grains[k]);
     out.coordination[k] = contacts[k] / count;
-    out.velocity[k] = momentum_sum[k] / count;
+    out.velocity[k] = Vec3{momentum_sum[k][0].value(), momentum_sum[k][1].value(), momentum_sum[k][2].value()} / count;
   }
   // Fluctuations about the slice means: a second pass, free of the cancellation of
   // mean |v|^2 - |mean v|^2.
-  std::vector<double> fluctuation(n, 0.0);
+  std::vector<ExactSum> fluctuation(n);
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double x = p.position[i].z;
     if (!(x > a.z_low && x < a.z_high)) continue;
@@ -78,7 +83,7 @@ Profiles measure_profiles(const AnalysisSpec& a, const World& w) {
     fluctuation[k] += norm2(p.velocity[i] - out.velocity[k]);
   }
   for (std::size_t k = 0; k < n; ++k)
-    if (out.grains[k] > 0) out.temperature[k] = fluctuation[k] / (3 * static_cast<double>(out.grains[k]));
+    if (out.grains[k] > 0) out.temperature[k] = fluctuation[k].value() / (3 * static_cast<double>(out.grains[k]));
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/core/exact_sum.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
@@ -32,8 +33,9 @@ std::vector<double> analysis_values(const AnalysisSpec& a, const World& w) {
     case AnalysisSpec::Kind::kinetic_energy: {
       const Energies e = energies(w, Vec3{});  // its kinetic parts
       const double kinetic = e.kinetic_translational + e.kinetic_rotational, n = static_cast<double>(w.particles.size());
-      double mass = 0;
-      for (double m : w.particles.mass) mass += m;
+      ExactSum mass_sum;
+      for (double m : w.particles.mass) mass_sum += m;
+      const double mass = mass_sum.value();
       return {kinetic, n > 0 ? kinetic / n : 0.0, mass > 0 ? std::sqrt(2 * e.kinetic_translational / mass) : 0.0};
     }
     case AnalysisSpec::Kind::profiles: break;  // above

@@ -88,12 +88,16 @@ class Writer {
   void array(const std::vector<T>& v) {  // the count is written once, before all arrays
     raw(v.data(), v.size() * sizeof(T));
   }
+  // A per-particle array in the file's order: v[order[0]], v[order[1]], ...
+  template <class T>
+  void array(const std::vector<T>& v, const std::vector<std::size_t>& order) {
+    for (std::size_t k : order) raw(&v[k], sizeof(T));
+  }
   void contacts(const std::vector<Contact>& list) {
     u64(list.size());
     for (const Contact& c : list) {
       pod(c.i);
       pod(c.j);
-      pod(static_cast<std::uint8_t>(c.touching));
       pod(c.history.xi);
       pod(c.history.normal);
     }
@@ -151,13 +155,11 @@ class Reader {
     pos_ += n * sizeof(T);
   }
   void contacts(std::vector<Contact>& list) {
-    list.resize(count(2 * 4 + 1 + 5 * 8));
+    list.resize(count(2 * 4 + 5 * 8));
     for (Contact& c : list) {
       c.i = pod<std::uint32_t>();
       c.j = pod<std::uint32_t>();
-      const auto touching = pod<std::uint8_t>();
-      if (touching > 1) throw CheckpointError("a contact's touching flag is neither 0 nor 1");
-      c.touching = touching == 1;
+      c.touching = true;
       c.history.xi = pod<Vec3>();
       for (double& h : c.history.normal) h = pod<double>();
     }
@@ -172,7 +174,35 @@ class Reader {
   }
 };
 
+// The particles are written in the order of their ids and only the touching contacts, each
+// pair from its smaller index (= its smaller id) and both lists sorted by (i, j) in that
+// numbering: the file does not depend on how the run numbered its particles (a spatial sort)
+// nor on when it last built its lists (the entries that do not touch carry an empty
+// history), so that runs of the same physics write the same bytes. The contact histories
+// are stored by id already (ContactList) and need no turn.
+struct FileOrder {
+  std::vector<std::size_t> particles;  // particles[k]: the index of the particle written k-th
+  std::vector<Contact> pairs, walls;   // renumbered to the file's order
+
+  explicit FileOrder(const Checkpoint& c) : particles(c.particles.in_id_order()) {
+    std::vector<std::uint32_t> position(particles.size());
+    for (std::size_t k = 0; k < particles.size(); ++k) position[particles[k]] = static_cast<std::uint32_t>(k);
+    for (Contact k : c.pair_contacts) {
+      if (!k.touching) continue;
+      k.i = position[k.i], k.j = position[k.j];
+      if (k.i > k.j) std::swap(k.i, k.j);
+      pairs.push_back(k);
+    }
+    for (Contact k : c.wall_contacts)
+      if (k.touching) k.i = position[k.i], walls.push_back(k);
+    const auto by_pair = [](const Contact& a, const Contact& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; };
+    std::sort(pairs.begin(), pairs.end(), by_pair);
+    std::sort(walls.begin(), walls.end(), by_pair);
+  }
+};
+
 void write_payload(const Checkpoint& c, Writer& w) {
+  const FileOrder order(c);
   w.str(c.engine_version);
   w.str(c.run_id);
   w.str(c.scenario_path);
@@ -193,9 +223,9 @@ void write_payload(const Checkpoint& c, Writer& w) {
   w.u64(c.output.track_bytes);
   const Particles& p = c.particles;
   w.u64(p.size());
-  p.for_each_array([&](const auto& array) { w.array(array); });
-  w.contacts(c.pair_contacts);
-  w.contacts(c.wall_contacts);
+  p.for_each_array([&](const auto& array) { w.array(array, order.particles); });
+  w.contacts(order.pairs);
+  w.contacts(order.walls);
   w.u64(c.wall_points.size());
   w.array(c.wall_points);
   w.array(c.wall_velocities);
@@ -205,9 +235,9 @@ void write_payload(const Checkpoint& c, Writer& w) {
   if (c.block.present) {  // n entries each, n = the particle count above
     const Checkpoint::BlockSteps& b = c.block;
     w.pod(std::uint8_t{1});
-    b.state.for_each_array([&](const auto& array) { w.array(array); });
-    w.array(b.list_positions);
-    w.array(b.list_reach);
+    b.state.for_each_array([&](const auto& array) { w.array(array, order.particles); });
+    w.array(b.list_positions, order.particles);
+    w.array(b.list_reach, order.particles);
     w.pod(static_cast<std::uint8_t>(b.lists_stale));
     w.u64(b.stats.block_times);
     w.u64(b.stats.wakes);
@@ -328,10 +358,20 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   }
   if (section != -1) throw CheckpointError("corrupted: unknown section " + std::to_string(section) + " after the energy watch");
   if (!r.at_end()) throw CheckpointError("bytes left after the payload");
-  for (const Contact& k : c.pair_contacts)
-    if (k.i >= n || k.j >= n) throw CheckpointError("a contact names a particle that does not exist");
-  for (const Contact& k : c.wall_contacts)
-    if (k.i >= n) throw CheckpointError("a wall contact names a particle that does not exist");
+  // The file's order (FileOrder): what was written so is read back as the same bytes.
+  for (std::size_t k = 1; k < n; ++k)
+    if (p.id[k] < p.id[k - 1]) throw CheckpointError("the particles are not in the order of their ids");
+  const auto check = [&](const std::vector<Contact>& list, const char* what, bool pairs) {
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const Contact& a = list[k];
+      if (a.i >= n || (pairs && a.j >= n)) throw CheckpointError(std::string("a ") + what + " names a particle that does not exist");
+      if (pairs && a.i >= a.j) throw CheckpointError("a pair contact is not listed from its first particle");
+      if (k > 0 && !(list[k - 1].i < a.i || (list[k - 1].i == a.i && list[k - 1].j < a.j)))
+        throw CheckpointError(std::string("the ") + what + "s are not sorted by (i, j)");
+    }
+  };
+  check(c.pair_contacts, "pair contact", true);
+  check(c.wall_contacts, "wall contact", false);
   return c;
 }
 

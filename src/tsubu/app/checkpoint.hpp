@@ -75,11 +75,15 @@ class CheckpointError : public std::runtime_error {
 
 // 2: the run id; 3: a pair's history is stored as seen from its particle with the smaller id
 // (ContactList), not from the smaller index; 4: block steps store the steps chosen by rule
-// (BlockStepStats::set_by_own, set_by_cluster).
-inline constexpr std::uint32_t kCheckpointVersion = 4;
+// (BlockStepStats::set_by_own, set_by_cluster); 5: particles in the order of their ids and
+// only the touching contacts (no touching flag), so that the bytes do not depend on the
+// particles' numbering or on when the lists were built.
+inline constexpr std::uint32_t kCheckpointVersion = 5;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
-// size, FNV-1a 64 of the payload) and the payload.
+// size, FNV-1a 64 of the payload) and the payload. The particles of c may be in any order
+// and its lists may hold entries that do not touch: the file holds the particles by id and
+// the touching contacts only (a checkpoint decoded is in that order).
 std::string encode_checkpoint(const Checkpoint& c);
 // Throws CheckpointError naming what is wrong.
 Checkpoint decode_checkpoint(const std::string& bytes);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tsubu/core/parallel.hpp"
+
 namespace tsubu {
 
 VolumeSlope cap_volume(double R, double dist) {
@@ -48,10 +50,14 @@ void CrowdList::build(const World& world, const Fluid& fluid, double g, const st
   for (std::size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
   neighbour_.resize(start_[n]);
   std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-  // found is sorted by (i, j): each particle's partners below it come first, in order of
-  // their own index, then those above it, in order.
   for (const Pair& q : found) neighbour_[fill[q.j]++] = q.i;
   for (const Pair& q : found) neighbour_[fill[q.i]++] = q.j;
+  // Each grain's neighbours in the order of their ids: the sums over them then have the
+  // same bits however the particles are numbered (a spatial sort, processes).
+  parallel_for(n, [&](std::size_t i) {
+    std::sort(neighbour_.begin() + start_[i], neighbour_.begin() + start_[i + 1],
+              [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
+  });
   exponent_.resize(n);
   ball_ratio_ = fluid.hindered_ball_ratio;
   for (std::size_t i = 0; i < n; ++i) {

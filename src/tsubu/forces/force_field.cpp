@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
+#include "tsubu/core/exact_sum.hpp"
 #include "tsubu/core/parallel.hpp"
 #include "tsubu/forces/evaluate.hpp"
 #include "tsubu/forces/gather.hpp"
@@ -231,25 +232,27 @@ void ForceField::accumulate(World& world, double fluid_lead) {
 
 ContactTotals ForceField::totals(const World& world) const {
   ContactTotals totals;
+  ExactSum elastic_energy;
   auto add = [&](const std::vector<Contact>& contacts, const Results& results, bool is_wall) {
     for (std::size_t k = 0; k < contacts.size(); ++k) {
       if (!contacts[k].touching) continue;
       ++totals.contacts;
-      totals.elastic_energy += results.entry[k].energy;
+      elastic_energy += results.entry[k].energy;
       totals.max_overlap_ratio = std::max(totals.max_overlap_ratio, overlap_ratio(world, k, is_wall));
     }
   };
   add(world.contacts.pairs(), pair_results_, false);
   add(world.contacts.walls(), wall_results_, true);
+  totals.elastic_energy = elastic_energy.value();
   return totals;
 }
 
 double ForceField::wall_load(const World& world, std::size_t wall) const {
-  double load = 0;
+  ExactSum load;
   const auto& contacts = world.contacts.walls();
   for (std::size_t k = 0; k < contacts.size(); ++k)
     if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
-  return load;
+  return load.value();
 }
 
 bool ForceField::evaluated(const World& world) const {

@@ -606,10 +606,13 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
       }
     });
   std::vector<int> cluster(active_.size(), -1);
-  std::vector<std::uint32_t> finest(active_.size());  // the member whose wish the cluster takes (the first)
+  // The member whose wish the cluster takes, whose rule the statistics credit: of those with
+  // the finest wish, the one with the smallest id (whatever the particles' numbering).
+  std::vector<std::uint32_t> finest(active_.size());
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t r = root(parent, q);
-    if (wish[q] > cluster[r]) cluster[r] = wish[q], finest[r] = q;
+    if (wish[q] > cluster[r] || (wish[q] == cluster[r] && p.id[active_[q]] < p.id[active_[finest[r]]]))
+      cluster[r] = wish[q], finest[r] = q;
   }
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t r = root(parent, q);

@@ -70,7 +70,7 @@ struct Particles {
 inline std::vector<std::size_t> Particles::in_id_order() const {
   std::vector<std::size_t> order(size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
   return order;
 }
 
