@@ -429,13 +429,49 @@ def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, p
         lock.close()
 
 
-def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
-    """run_sweep's work, with the output folder locked."""
+def start_results(sweep):
+    """Makes OUTPUT/logs and writes results.csv as the cases stand; returns both paths."""
     logs = sweep.output / "logs"
     with _writing(logs):
         logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
+    return logs, results
+
+
+def start_run(command, log_path):
+    """Starts a case's command: "$ COMMAND" and then its output appended to its log, no input,
+    in a session of its own (a Ctrl-C at the terminal reaches only the sweep, which then asks
+    each run once to stop: a second signal would stop a run at once). Returns the process and
+    the open log."""
+    with _writing(log_path):
+        log = open(log_path, "a")
+        print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
+    proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                            start_new_session=True)
+    return proc, log
+
+
+def record_end(case, returncode, log_path, progress):
+    """Sets the status and message of a case whose run ended with `returncode`, from its run.json
+    and log, and names it on `progress` unless it is ok. Returns who holds the case's folder when
+    another tsubu did (the run did nothing then), else None."""
+    if returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
+        return lock_holder(case.folder) or "holder unknown"
+    case.refresh()
+    # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
+    # without a valid checkpoint) leave none, or the one of the session before.
+    if case.summary is None or (returncode not in (0, INTERRUPTED) and case.status != "failed"):
+        case.status = "failed"
+        case.message = f"tsubu exited with code {returncode}: {_last_line(log_path)}"
+    if case.status != "ok" and progress:
+        print(f"sweep: {case.name}: {case.status}: {case.message} (log: {log_path})", file=progress, flush=True)
+    return None
+
+
+def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
+    """run_sweep's work, with the output folder locked."""
+    logs, results = start_results(sweep)
     report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
     waiting = []  # cases whose folder another tsubu holds: brought forward once it ends
@@ -459,17 +495,10 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     def finish(proc):
         case, log_path, log = running.pop(proc)
         log.close()
-        if proc.returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
-            wait_for_holder(case, lock_holder(case.folder) or "holder unknown")  # it started just before
+        holder = record_end(case, proc.returncode, log_path, progress)
+        if holder:
+            wait_for_holder(case, holder)  # it started just before
             return
-        case.refresh()
-        # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
-        # without a valid checkpoint) leave none, or the one of the session before.
-        if case.summary is None or (proc.returncode not in (0, INTERRUPTED) and case.status != "failed"):
-            case.status = "failed"
-            case.message = f"tsubu exited with code {proc.returncode}: {_last_line(log_path)}"
-        if case.status != "ok" and progress:
-            print(f"sweep: {case.name}: {case.status}: {case.message} (log: {log_path})", file=progress, flush=True)
         report.finished_here += 1
         write_results(sweep, results)
         report.report(*counts())
@@ -498,13 +527,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
                     wait_for_holder(case, holder)
                     continue
                 log_path = logs / f"{case.name}.log"
-                with _writing(log_path):
-                    log = open(log_path, "a")
-                    print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
-                # A session of its own: a Ctrl-C at the terminal reaches only the sweep, which
-                # then asks each run once to stop (a second signal would stop a run at once).
-                proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                                        start_new_session=True)
+                proc, log = start_run(command, log_path)
                 case.status = "running"
                 running[proc] = (case, log_path, log)
             if not started:
