@@ -273,11 +273,12 @@ def test_slurm_time_limit_no_wait_and_ctrl_c(slurm, tmp_path):
     wait_for(lambda: "tsubu: resuming" in log.read_text(), "the resume to start")
     follow = subprocess.Popen([sys.executable, "-m", "tsubu.sweep", str(file), "--engine", "slurm"], env=slurm,
                               cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    first = follow.stderr.readline()  # then it follows the job, its Ctrl-C handler in place
+    assert re.match(r"sweep: collecting array job \d+, submitted before", first), first
     time.sleep(2)
     follow.send_signal(signal.SIGINT)
     _, err = follow.communicate(timeout=120)
-    assert follow.returncode == 4, err
-    assert re.search(r"sweep: collecting array job \d+, submitted before", err)
+    assert follow.returncode == 4, first + err
     assert re.search(r"sweep: interrupted: cancelling array job \d+; its runs stop with a checkpoint", err)
     again = results(out)[CASES[0]]
     assert again["status"] == "interrupted" and again["message"].startswith("stopped by SIGTERM after step")
