@@ -1,6 +1,7 @@
 """Runs the variants of a scenario, a grid and/or a list of cases, a few at a time.
 
     /usr/bin/python3 -m tsubu.sweep SWEEP.toml [--jobs N] [--dry-run] [--retry-failed] [--tsubu PATH]
+                                    [--engine local|slurm|mpi] [--no-wait]
 
 A sweep file names a base scenario, the `--set` overrides each case applies (a full grid of
 values and/or an explicit list of cases), the output root and the number of runs at a time.
@@ -9,11 +10,13 @@ the sweep skips the finished cases, resumes an interrupted or killed one from it
 (`tsubu resume`) and leaves a failed one alone (reported; --retry-failed runs it again).
 After each case and at the end, the parameters, status, wall time and results of every case
 are written to OUTPUT/results.csv. Ctrl-C (or SIGTERM) asks the runs to stop with a
-checkpoint; re-running continues them. The format and the command: docs/sweeps.md.
+checkpoint; re-running continues them. `--engine slurm` hands the cases to Slurm as an array
+job, `--engine mpi` to an MPI pool of workers (tsubu.cluster). The format and the command:
+docs/sweeps.md.
 
-Exit codes: 0 every case finished, 1 a case failed, 2 a bad sweep file or command line,
-4 interrupted, 5 a file of the sweep could not be written (the runs were stopped with a
-checkpoint).
+Exit codes: 0 every case finished (with --no-wait: or is in Slurm's queue), 1 a case failed
+or did not finish, 2 a bad sweep file or command line, 4 interrupted, 5 a file of the sweep
+could not be written (the runs were stopped with a checkpoint).
 """
 import argparse
 import contextlib
@@ -166,9 +169,10 @@ def _labels(keys):
 
 
 class Sweep:
-    """A sweep file, checked: scenario, output root, jobs, threads, fixed overrides, cases."""
+    """A sweep file, checked: scenario, output root, jobs (None when not given), threads, ranks,
+    fixed overrides, cases, Slurm settings."""
 
-    KEYS = ("scenario", "output", "jobs", "threads", "set", "grid", "cases")
+    KEYS = ("scenario", "output", "jobs", "threads", "ranks", "set", "grid", "cases", "slurm")
 
     def __init__(self, spec, file="<dict>", base=Path(".")):
         self.file = file
@@ -190,8 +194,11 @@ class Sweep:
         if not isinstance(output, str) or not output:
             fail("output", "must be a non-empty string: the folder that holds the cases' folders")
         self.output = Path(output)
-        self.jobs = self._count(spec, "jobs", _cores(), fail)
+        self.jobs = self._count(spec, "jobs", None, fail) if "jobs" in spec else None
         self.threads = self._count(spec, "threads", 1, fail)
+        self.ranks = self._count(spec, "ranks", 1, fail)
+        from .cluster import slurm_settings  # here: tsubu.cluster imports this module
+        self.slurm = slurm_settings(spec.get("slurm", {}), fail)
 
         def table(key):
             value = spec.get(key, {})
@@ -235,6 +242,12 @@ class Sweep:
                 fail("cases", f"two cases give the folder {name!r}: {seen[name]} and {p}")
             seen[name] = p
             self.cases.append(Case(p, self.output / name))
+
+    def command(self, case, tsubu, retry_failed, launcher):
+        """The command that brings the case forward (Case.next_command), started by `launcher`
+        with the sweep's ranks when it has more than one (e.g. ("mpirun", "-np")); or None."""
+        command = case.next_command(tsubu, self.scenario, self.overrides, self.threads, retry_failed)
+        return [*launcher, str(self.ranks), *command] if command and self.ranks > 1 else command
 
     @staticmethod
     def _count(spec, key, default, fail):
@@ -391,51 +404,114 @@ def select_cases(cases, only):
     return chosen
 
 
-def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr, only=None):
+def run_sweep(sweep, jobs=None, dry_run=False, tsubu=None, retry_failed=False, progress=sys.stderr, only=None,
+              engine="local", wait=True):
     """Runs the cases of `sweep` (a sweep file's path or a dict with its keys) that are not
     finished, of those `only` selects (see select_cases; all by default); returns the list of
-    every Case (status "ok", "failed", "interrupted", or "pending" for a case not run). A dry
-    run prints each selected case's command and checks the scenario of each case to be run
-    with `tsubu check` (a case it refuses is "failed"). Raises SweepError for a bad sweep;
-    KeyboardInterrupt after Ctrl-C or SIGTERM, and SweepWriteError when a file of the sweep
-    cannot be written (a full disk), once the runs under way have stopped with a checkpoint."""
+    every Case (status "ok", "failed", "interrupted", or "pending" for a case not run; with
+    wait=False "queued" or "running" for a case in Slurm's queue). A dry run prints each
+    selected case's command and checks the scenario of each case to be run with `tsubu check`
+    (a case it refuses is "failed"). engine: "local" (here, `jobs` at a time), "slurm" or
+    "mpi" (tsubu.cluster; wait=False: Slurm's array job is submitted, not waited for). Raises
+    SweepError for a bad sweep; KeyboardInterrupt after Ctrl-C or SIGTERM, and SweepWriteError
+    when a file of the sweep cannot be written (a full disk), once the runs under way have
+    stopped with a checkpoint."""
     sweep = load_sweep(sweep)
     chosen = select_cases(sweep.cases, only)
-    if jobs is None:
-        jobs = sweep.jobs
-    elif isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+    if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1):
         raise SweepError(f"--jobs: must be an integer of at least 1, got {jobs!r}")
+    jobs = jobs or sweep.jobs
+    if engine == "local" and wait:
+        engine = _Local(jobs or _cores())
+    else:
+        from . import cluster
+        engine = cluster.engine(engine, sweep, jobs, wait)
     tsubu = find_tsubu(tsubu)
     for c in sweep.cases:
         c.refresh()  # the cases --only leaves out keep their status in results.csv
-    commands = [(c, c.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed))
-                for c in chosen]
+    commands = [(c, sweep.command(c, tsubu, retry_failed, engine.launcher)) for c in chosen]
     work = [(case, command) for case, command in commands if command]
     if dry_run:
         for case, command in commands:
             print(f"{case.name}: {' '.join(map(_quote, command)) if command else f'skip ({case.status})'}")
-            if command and command[1] == "run":
+            if command and command[command.index(str(tsubu)) + 1] == "run":
                 _check(case, [str(tsubu), "check", str(sweep.scenario), *case.set_arguments(sweep.overrides)])
-        print(f"{len(sweep.cases)} cases, {len(chosen)} selected, {len(work)} to run, {jobs} at a time,"
+        print(f"{len(sweep.cases)} cases, {len(chosen)} selected, {len(work)} to run, {engine.at_a_time},"
               f" into {sweep.output}" if only else
-              f"{len(sweep.cases)} cases, {len(work)} to run, {jobs} at a time, into {sweep.output}")
+              f"{len(sweep.cases)} cases, {len(work)} to run, {engine.at_a_time}, into {sweep.output}")
+        engine.dry_run(sweep, work)
         return sweep.cases
+    engine.check()
     with _writing(sweep.output):
         sweep.output.mkdir(parents=True, exist_ok=True)
     lock = _lock_output(sweep.output)
     try:
-        return _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress)
+        return engine.run(sweep, chosen, work, tsubu, retry_failed, progress)
     finally:
         lock.close()
 
 
-def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
-    """run_sweep's work, with the output folder locked."""
+class _Local:
+    """The local engine: `jobs` runs at a time, started here (_run_cases)."""
+
+    launcher = ("mpirun", "-np")  # a case of several ranks (an MPI build of tsubu)
+
+    def __init__(self, jobs):
+        self.jobs, self.at_a_time = jobs, f"{jobs} at a time"
+
+    def check(self):
+        pass
+
+    def dry_run(self, sweep, work):
+        pass
+
+    def run(self, sweep, chosen, work, tsubu, retry_failed, progress):
+        return _run_cases(sweep, chosen, work, self.jobs, tsubu, retry_failed, progress)
+
+
+def start_results(sweep):
+    """Makes OUTPUT/logs and writes results.csv as the cases stand; returns both paths."""
     logs = sweep.output / "logs"
     with _writing(logs):
         logs.mkdir(exist_ok=True)
     results = sweep.output / "results.csv"
     write_results(sweep, results)
+    return logs, results
+
+
+def start_run(command, log_path):
+    """Starts a case's command: "$ COMMAND" and then its output appended to its log, no input,
+    in a session of its own (a Ctrl-C at the terminal reaches only the sweep, which then asks
+    each run once to stop: a second signal would stop a run at once). Returns the process and
+    the open log."""
+    with _writing(log_path):
+        log = open(log_path, "a")
+        print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
+    proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                            start_new_session=True)
+    return proc, log
+
+
+def record_end(case, returncode, log_path, progress):
+    """Sets the status and message of a case whose run ended with `returncode`, from its run.json
+    and log, and names it on `progress` unless it is ok. Returns who holds the case's folder when
+    another tsubu did (the run did nothing then), else None."""
+    if returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
+        return lock_holder(case.folder) or "holder unknown"
+    case.refresh()
+    # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
+    # without a valid checkpoint) leave none, or the one of the session before.
+    if case.summary is None or (returncode not in (0, INTERRUPTED) and case.status != "failed"):
+        case.status = "failed"
+        case.message = f"tsubu exited with code {returncode}: {_last_line(log_path)}"
+    if case.status != "ok" and progress:
+        print(f"sweep: {case.name}: {case.status}: {case.message} (log: {log_path})", file=progress, flush=True)
+    return None
+
+
+def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
+    """The local engine's work, with the output folder locked."""
+    logs, results = start_results(sweep)
     report = _Progress(progress, len(chosen))
     running = {}  # Popen -> (case, log path, log file)
     waiting = []  # cases whose folder another tsubu holds: brought forward once it ends
@@ -459,17 +535,10 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
     def finish(proc):
         case, log_path, log = running.pop(proc)
         log.close()
-        if proc.returncode == 2 and "is in use by another tsubu" in _last_line(log_path):
-            wait_for_holder(case, lock_holder(case.folder) or "holder unknown")  # it started just before
+        holder = record_end(case, proc.returncode, log_path, progress)
+        if holder:
+            wait_for_holder(case, holder)  # it started just before
             return
-        case.refresh()
-        # tsubu records its own failures (exit 3, 5) in run.json; others (bad input, a resume
-        # without a valid checkpoint) leave none, or the one of the session before.
-        if case.summary is None or (proc.returncode not in (0, INTERRUPTED) and case.status != "failed"):
-            case.status = "failed"
-            case.message = f"tsubu exited with code {proc.returncode}: {_last_line(log_path)}"
-        if case.status != "ok" and progress:
-            print(f"sweep: {case.name}: {case.status}: {case.message} (log: {log_path})", file=progress, flush=True)
         report.finished_here += 1
         write_results(sweep, results)
         report.report(*counts())
@@ -485,7 +554,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
         while (queue or running or waiting) and not stop:
             for case in [c for c in waiting if not lock_holder(c.folder)]:
                 waiting.remove(case)
-                command = case.next_command(tsubu, sweep.scenario, sweep.overrides, sweep.threads, retry_failed)
+                command = sweep.command(case, tsubu, retry_failed, _Local.launcher)
                 if command:
                     queue.append((case, command))
                 else:  # the other tsubu finished it (or it failed there)
@@ -498,13 +567,7 @@ def _run_cases(sweep, chosen, work, jobs, tsubu, retry_failed, progress):
                     wait_for_holder(case, holder)
                     continue
                 log_path = logs / f"{case.name}.log"
-                with _writing(log_path):
-                    log = open(log_path, "a")
-                    print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
-                # A session of its own: a Ctrl-C at the terminal reaches only the sweep, which
-                # then asks each run once to stop (a second signal would stop a run at once).
-                proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                                        start_new_session=True)
+                proc, log = start_run(command, log_path)
                 case.status = "running"
                 running[proc] = (case, log_path, log)
             if not started:
@@ -570,10 +633,15 @@ def main(argv=None):
     parser.add_argument("--tsubu", help="the tsubu executable (default: $TSUBU_BINARY, tsubu on the PATH, build/tsubu)")
     parser.add_argument("--only", action="append", metavar="KEY=VALUE",
                         help="run only the cases with this parameter value (repeatable; VALUE in TOML)")
+    parser.add_argument("--engine", choices=("local", "slurm", "mpi"), default="local",
+                        help="who runs the cases: this process (default), a Slurm array job, or the workers of an "
+                             "MPI pool (mpirun -np K python3 -m mpi4py.futures -m tsubu.sweep ... --engine mpi)")
+    parser.add_argument("--no-wait", action="store_true",
+                        help="with --engine slurm: submit the array job and return; re-running collects")
     args = parser.parse_args(argv)
     try:
         cases = run_sweep(args.sweep, jobs=args.jobs, dry_run=args.dry_run, tsubu=args.tsubu,
-                          retry_failed=args.retry_failed, only=args.only)
+                          retry_failed=args.retry_failed, only=args.only, engine=args.engine, wait=not args.no_wait)
     except SweepError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -584,14 +652,19 @@ def main(argv=None):
         print(f"error: {e}; make room, then run the same command again to continue", file=sys.stderr)
         return WRITE_FAILED
     cases = select_cases(cases, args.only)
-    failed = [c.name for c in cases if c.status != "ok"]
+    queued = [c.name for c in cases if args.no_wait and c.status in ("queued", "running")]
+    failed = [c.name for c in cases if c.status != "ok" and c.name not in queued]
     if args.dry_run:
         failed = [c.name for c in cases if c.status == "failed"]
         return 1 if failed else 0
-    print(f"sweep: {len(cases) - len(failed)} of {len(cases)} cases finished"
+    print(f"sweep: {len(cases) - len(failed) - len(queued)} of {len(cases)} cases finished"
+          + (f"; {len(queued)} in Slurm's queue: run the same command again to collect them" if queued else "")
           + (f"; not finished: {', '.join(failed)}" if failed else ""), file=sys.stderr)
     return 1 if failed else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # As the module tsubu.sweep, not this copy run as __main__: tsubu.cluster raises that
+    # module's SweepError, which main must catch.
+    from tsubu.sweep import main as _main
+    sys.exit(_main())
