@@ -5,7 +5,7 @@
 cmake_minimum_required(VERSION 3.25)
 
 # The layers, lowest first. A file right under src/tsubu/ (version.hpp) counts as core.
-set(layers core world search fluid contact model forces integrate io scenario source analysis sim app)
+set(layers core world search fluid contact model forces integrate io scenario source analysis sim ranks app)
 
 # The layer index of a path under src/ ("tsubu/<folder>/..."), or -1 for none of them.
 function(layer_of path out)

@@ -4,11 +4,12 @@
 # and tools/test.sh.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-# slurm-wlm, openmpi-bin and python3-mpi4py: the sweep's Slurm and MPI engines and their tests
-# (python/tests/test_sweep_cluster.py starts a Slurm of its own; no service is configured).
+# libopenmpi-dev and openmpi-bin: runs split among processes (docs/parallel.md) and their
+# tests; slurm-wlm, openmpi-bin and python3-mpi4py: the sweep's Slurm and MPI engines and their
+# tests (python/tests/test_sweep_cluster.py starts a Slurm of its own; no service is configured).
 packages=(cmake ninja-build g++ libgtest-dev libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
           python3-vtk9 python3-matplotlib python3-numpy pybind11-dev python3-dev python3-pytest
-          slurm-wlm openmpi-bin python3-mpi4py)
+          libopenmpi-dev slurm-wlm openmpi-bin python3-mpi4py)
 sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
 missing=()
 for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done

@@ -42,6 +42,7 @@ void ForceField::admit_new_particles(Particles& p) {
 }
 
 void ForceField::compute(World& world, double fluid_lead) {
+  if (neighbourhood_ && neighbourhood_->update(world)) built_at_.clear();
   admit_new_particles(world.particles);
   shifts_ = model_->laws.corrects_positions();
   if (needs_rebuild(world)) rebuild(world);

@@ -70,6 +70,17 @@ struct BodyLoad {
   Vec3 force, torque;
 };
 
+// The particles of other processes, in a run split among them (ranks/decomposition.hpp):
+// brought up to date before every evaluation.
+class Neighbourhood {
+ public:
+  virtual ~Neighbourhood() = default;
+  // Refreshes the copies of the other processes' particles in world (World::ghosts), or
+  // rearranges the particles among the processes; true when it did (the lists must be
+  // built again).
+  virtual bool update(World& world) = 0;
+};
+
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
 // carrying every history over, once some particle has moved more than skin/2 since the last
 // build; in between, each step only evaluates the listed pairs.
@@ -140,6 +151,10 @@ class ForceField {
   // The world's particles were renumbered (sort_spatially): the contact records follow
   // their contacts; the lists are rebuilt at the next evaluation.
   void renumbered(const World& world);
+  // A run split among processes: `n` (which must outlive the field) updates the other
+  // processes' particles before every evaluation; null for a run in one process.
+  void set_neighbourhood(Neighbourhood* n) { neighbourhood_ = n; }
+  bool distributed() const { return neighbourhood_ != nullptr; }
   double skin() const { return skin_; }
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;
@@ -218,6 +233,7 @@ class ForceField {
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
   bool started_ = false;  // an evaluation has succeeded: the run has left its initial state
+  Neighbourhood* neighbourhood_ = nullptr;
   bool keeps_records_ = false;  // the lists' records outlive a list change (block steps' builds)
 
   bool needs_rebuild(const World& world) const;

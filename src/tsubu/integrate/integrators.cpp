@@ -29,8 +29,9 @@ namespace {
 
 }  // namespace
 
-void kick(Particles& p, double h) {
-  parallel_for(p.size(), [&](std::size_t i) {
+void kick(World& world, double h) {
+  Particles& p = world.particles;
+  parallel_for(world.owned(), [&](std::size_t i) {
     p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
     p.omega[i] += p.torque[i] * (h / p.inertia[i]);
   });
@@ -38,10 +39,11 @@ void kick(Particles& p, double h) {
 
 void kick_drift(World& world, double h_kick, double h_drift) {
   Particles& p = world.particles;
-  const int threads = threads_for(p.size());
+  const std::size_t n = world.owned();
+  const int threads = threads_for(n);
   std::vector<char> lost(static_cast<std::size_t>(threads), 0);
   for_each_thread(threads, [&](int t) {
-    const auto [begin, end] = static_range(p.size(), t, threads);
+    const auto [begin, end] = static_range(n, t, threads);
     bool any = false;
     for (std::size_t i = begin; i < end; ++i) {
       p.velocity[i] += p.force[i] * (h_kick / p.translational_mass[i]);

@@ -31,8 +31,8 @@ inline constexpr std::array kIntegrators = {Integrator::velocity_verlet, Integra
 // walls moved by h_drift; a particle that is not finite or has left a non-periodic side of
 // the box stops the run (NumericalError).
 void kick_drift(World& world, double h_kick, double h_drift);
-// v <- v + F/m h (omega likewise).
-void kick(Particles& p, double h);
+// v <- v + F/m h (omega likewise). Both move only the particles the process owns.
+void kick(World& world, double h);
 // The clock after a step: world.step + 1, world.time = step dt.
 void next_step(World& world);
 
@@ -53,7 +53,7 @@ void velocity_verlet_step(World& world, Evaluate&& evaluate) {
   kick_drift(world, 0.5 * world.dt, world.dt);
   next_step(world);
   evaluate(0.5 * world.dt);
-  kick(world.particles, 0.5 * world.dt);
+  kick(world, 0.5 * world.dt);
 }
 
 // One fixed step of symplectic Euler or velocity Verlet.

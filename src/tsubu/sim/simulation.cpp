@@ -32,7 +32,7 @@ void Simulation::evaluate(double fluid_lead) {
 
 bool Simulation::sort_due() const {
   const std::int64_t every = model_->search.sort_every;
-  return every > 0 && world_.step % every == 0;
+  return every > 0 && world_.step % every == 0 && !forces_.distributed();  // processes order their own particles
 }
 
 void Simulation::renumber() {

@@ -1,0 +1,33 @@
+// The processes of a run and the few collective operations a domain decomposition needs,
+// on byte buffers: MPI's world communicator in a build with MPI (TSUBU_HAVE_MPI), one
+// process otherwise. docs/parallel.md.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace tsubu {
+
+class Communicator {
+ public:
+  // The processes the run was started with (mpirun -np N), or one.
+  static Communicator& world();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  // Sends to_each[r] to process r (to_each has size() entries, its own included) and returns
+  // what each process sent to this one, by sender.
+  std::vector<std::string> exchange(const std::vector<std::string>& to_each) const;
+  // Every process's bytes, by rank, on process 0; empty elsewhere.
+  std::vector<std::string> gather(const std::string& bytes) const;
+  // Whether any process passes true; the largest and the smallest value over the processes.
+  bool any(bool mine) const;
+  double max(double mine) const;
+  double min(double mine) const;
+
+ private:
+  Communicator(int rank, int size) : rank_(rank), size_(size) {}
+  int rank_, size_;
+};
+
+}  // namespace tsubu

@@ -1,0 +1,73 @@
+// A run split among processes by a Cartesian grid of subdomains (docs/parallel.md). Each
+// process holds the particles in its subdomain (owned, first in world.particles, in the
+// order of their ids) and copies of the other processes' particles within reach of it
+// (ghosts, last: World::ghosts), with the touching contacts of its owned particles. Before
+// every evaluation (ForceField's Neighbourhood) it refreshes the ghosts' motion; once a
+// particle has moved half the skin since the last arrangement, the processes hand the
+// particles that left their subdomains, with their contact histories, to their new owners
+// and build the ghost sets again.
+//
+// The same bits for any number of processes: a process evaluates every contact of its
+// owned particles, with a ghost partner exactly as the partner's process evaluates it (a
+// pair seen from either particle gives the same bits negated, the contact history is
+// stored by id), sums each particle's contacts in its partners' id order, and integrates
+// only its owned particles; no result depends on when the lists are built.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tsubu/forces/force_field.hpp"
+#include "tsubu/ranks/communicator.hpp"
+#include "tsubu/ranks/rank_grid.hpp"
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// A touching contact by its particles' ids: a pair (a < b, the history as seen from a), or
+// particle a on wall `wall`.
+struct ContactLink {
+  std::int64_t a = 0, b = 0;
+  std::int64_t wall = -1;  // -1 for a pair
+  ContactHistory history;
+};
+
+class Decomposition final : public Neighbourhood {
+ public:
+  // `skin`: the neighbour-list margin of the run (the same on every process), `reach`: the
+  // largest particle radius.
+  // `counts`: the grid of subdomains (RankGrid), automatic when zero.
+  Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
+                std::array<int, 3> counts = {0, 0, 0});
+
+  const RankGrid& grid() const { return grid_; }
+  // How often the particles were arranged among the processes (distribute included).
+  std::size_t arrangements() const { return arrangements_; }
+  // Keeps this process's part of a world that every process holds whole (built from the
+  // scenario or read from a checkpoint), with its ghosts.
+  void distribute(World& world);
+  // Neighbourhood: before each evaluation.
+  bool update(World& world) override;
+  // The owned particles and their touching contacts of every process, on process 0, as one
+  // world: particles in the order of their ids, contacts as a checkpoint stores them (other
+  // processes get an empty world). For outputs and tests.
+  World gathered(const World& world) const;
+
+ private:
+  const Communicator& comm_;
+  RankGrid grid_;
+  double skin_, width_;  // the ghost layer's width
+  std::vector<Vec3> arranged_at_;  // the owned particles' positions at the last arrangement
+  std::vector<std::vector<std::uint32_t>> sent_;  // per process, the owned particles it has copies of
+  std::vector<std::size_t> received_from_;        // per process, where its copies begin in world.particles
+  std::size_t arrangements_ = 0;
+
+  // Settles `owned` (this process's particles, any order) and `links` (touching contacts of
+  // them, possibly repeated) as the world's particles and lists, with new ghosts.
+  void arrange(World& world, Particles owned, std::vector<ContactLink> links);
+  void refresh_ghosts(World& world);
+  // The touching contacts of the owned particles.
+  static std::vector<ContactLink> links_of(const World& world);
+};
+
+}  // namespace tsubu

@@ -1,0 +1,110 @@
+// Runs split among processes (ranks/decomposition.hpp) end with the bits of one process.
+// Each test runs under `mpirun -np N` (tests/CMakeLists.txt: N = 1 to 4, one and two threads
+// per process); process 0 also runs the scenario alone and compares the states a checkpoint
+// stores (every particle array, the touching contacts and their histories, the walls).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tsubu/app/checkpoint.hpp"
+#include "tsubu/ranks/decomposition.hpp"
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/simulation.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+namespace {
+
+// The state a checkpoint stores of a world (particles by id, touching contacts), as bytes.
+std::string state_of(const World& w) {
+  Checkpoint c;
+  c.particles = w.particles;
+  c.pair_contacts = w.contacts.pairs();
+  c.wall_contacts = w.contacts.walls();
+  c.step = w.step;
+  c.time = w.time;
+  for (const Wall& wall : w.walls) c.wall_points.push_back(wall.point), c.wall_velocities.push_back(wall.velocity);
+  return encode_checkpoint(c);
+}
+
+struct Case {
+  std::string scenario;  // under the source folder
+  std::vector<std::string> overrides;
+  std::array<int, 3> counts{};  // the grid of subdomains; automatic when zero
+  double grid_top = 0;          // > 0: the grid spans the box only up to this height (the bed)
+};
+
+// The scenario run to its end split among all processes and, on process 0, alone.
+void expect_same_bits(const Case& c) {
+  const Communicator& comm = Communicator::world();
+  const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/" + c.scenario, c.overrides);
+  const std::int64_t steps = std::llround(sc.duration / sc.dt);
+  Simulation split(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+  const Particles& p = split.world().particles;
+  Domain cut = split.world().domain;
+  if (c.grid_top > 0) cut.upper.z = c.grid_top;
+  Decomposition decomposition(comm, cut, split.forces().skin_of(split.world()),
+                              *std::max_element(p.radius.begin(), p.radius.end()), c.counts);
+  decomposition.distribute(split.world());
+  split.forces().set_neighbourhood(&decomposition);
+  split.start();
+  split.advance_to(steps);
+  const bool ghosts = comm.any(split.world().ghosts > 0);
+  const World all = decomposition.gathered(split.world());
+  if (comm.rank() != 0) return;
+  const std::array<int, 3>& g = decomposition.grid().counts();
+  SCOPED_TRACE(c.scenario + " on " + std::to_string(comm.size()) + " processes (" + std::to_string(g[0]) + " x " +
+               std::to_string(g[1]) + " x " + std::to_string(g[2]) + "), " + std::to_string(omp_get_max_threads()) + " threads");
+  if (comm.size() > 1) {
+    EXPECT_TRUE(ghosts) << "no process held a copy of another's particle";
+    EXPECT_GT(decomposition.arrangements(), 2u) << "the particles were never handed over";
+  }
+  Simulation alone(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+  alone.start();
+  alone.advance_to(steps);
+  ASSERT_EQ(all.particles.size(), alone.world().particles.size());
+  EXPECT_TRUE(state_of(all) == state_of(alone.world())) << "the split run's state differs from one process's";
+}
+
+// Grains poured onto a floor in a box periodic along x and y, velocity Verlet, Hertz with
+// Mindlin's friction, the subdomains stacked through the forming bed: grains fall through
+// them and are handed over with their contacts; contacts cross every cut.
+TEST(Decomposition, APouredBedCutThroughItsHeight) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/settle_mono.toml", {"simulation.duration=0.1"}, {1, 1, n}, 0.02});
+}
+
+// The bed cut across its periodic sides (2 x 2 x 1, or n x 1 x 1): ghosts across the periodic
+// boundaries; with two processes along an axis, both neighbours are one process.
+TEST(Decomposition, CutsAcrossPeriodicSidesKeepTheBits) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/settle_mono.toml", {"simulation.duration=0.05"}, n == 4 ? std::array{2, 2, 1} : std::array{n, 1, 1}});
+}
+
+// Symplectic Euler with model P (a position correction on a contact's first step) and
+// Coulomb springs.
+TEST(Decomposition, ModelPWithItsPositionCorrectionKeepsTheBits) {
+  expect_same_bits({"tests/scenarios/checkpoint_model_p.toml", {"simulation.duration=0.04"}});
+}
+
+// Moving walls (the contact network scenario's) and the Hooke/Hysteresis piston, cut along x.
+TEST(Decomposition, MovingWallsKeepTheBits) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/contact_network.toml", {"simulation.duration=0.05"}, {n, 1, 1}});
+  expect_same_bits({"examples/piston-hysteresis.toml", {"simulation.duration=0.05"}, {n, 1, 1}});
+}
+
+// A polydisperse bed on the multi-level grid and on the cell grid, cut along x: the ghost
+// layer is as wide as the largest grain's reach.
+TEST(Decomposition, APolydisperseBedKeepsTheBitsOnBothSearches) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/poly_search.toml", {}, {n, 1, 1}});
+  expect_same_bits({"tests/scenarios/poly_search.toml", {"search.method=\"cell\""}, {n, 1, 1}});
+}
+
+}  // namespace
+}  // namespace tsubu
