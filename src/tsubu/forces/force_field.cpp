@@ -114,7 +114,7 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   grid_.configure(model_->search);
   std::vector<Pair> candidates;
   grid_.find_pairs(probe, world.domain, margin, candidates);
-  contacts.carry_pairs(candidates);
+  contacts.carry_pairs(candidates, world.particles);
   find_wall_contacts(world, probe, margin, wall_reach, candidates);
   contacts.carry_walls(candidates);
   contacts.index(world.particles);
@@ -194,9 +194,10 @@ void ForceField::evaluate_walls(World& world) {
 
 void ForceField::accumulate(World& world, double fluid_lead) {
   Particles& p = world.particles;
-  // Each particle gathers its own contacts in ascending contact order, so the sums are the
-  // same bits for every thread count (and no two threads write the same particle). Listed
-  // pairs that do not touch hold zeros and are added without a test (no branch to miss).
+  // Each particle gathers its own contacts in a fixed order (its partners' ids, then its
+  // walls: gather), so the sums are the same bits for every thread count and numbering (and
+  // no two threads write the same particle). Listed pairs that do not touch hold zeros and
+  // are added without a test (no branch to miss).
   const int threads = threads_for(p.size());
   std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);
