@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -160,22 +161,36 @@ py::dict energies_of(PySimulation& self) {
   return d;
 }
 
-// The touching contacts of the last evaluation: pairs (i < j) or walls.
+// The touching contacts of the last evaluation: pairs (i < j, by index) or walls, sorted by
+// (i, j).
 py::dict contacts_of(PySimulation& self, bool walls) {
   Session& s = self.idle();
   if (!s.contacts_evaluated())
     throw std::runtime_error("no contact forces since the resume: a checkpoint stores the particles' forces, not the "
                              "contacts'; step once first");
   const World& w = s.world();
-  std::vector<std::int64_t> i, j, id_i, id_j;
-  std::vector<double> overlap, force;
+  // The records list a pair from its smaller id (the contact list's orientation): turned to
+  // its smaller index here, with the force on that particle (the record's negated, to the bit).
+  struct Row {
+    std::uint32_t i, j;
+    double overlap;
+    Vec3 force;
+  };
+  std::vector<Row> rows;
   for (const ContactRecord& r : s.simulation().forces().touching_contacts(w)) {
     if (r.wall != walls) continue;
+    const Vec3 f = r.normal_force + r.tangential_force;
+    if (!walls && r.j < r.i) rows.push_back({r.j, r.i, r.overlap, -f});
+    else rows.push_back({r.i, r.j, r.overlap, f});
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
+  std::vector<std::int64_t> i, j, id_i, id_j;
+  std::vector<double> overlap, force;
+  for (const Row& r : rows) {
     i.push_back(r.i), j.push_back(r.j), id_i.push_back(w.particles.id[r.i]);
     if (!walls) id_j.push_back(w.particles.id[r.j]);
     overlap.push_back(r.overlap);
-    const Vec3 f = r.normal_force + r.tangential_force;
-    force.insert(force.end(), {f.x, f.y, f.z});
+    force.insert(force.end(), {r.force.x, r.force.y, r.force.z});
   }
   auto array = [](const auto& v) {
     using T = typename std::decay_t<decltype(v)>::value_type;

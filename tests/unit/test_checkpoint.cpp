@@ -114,8 +114,8 @@ Checkpoint sample_checkpoint() {
   }
   c.wall_points = {{0, 0, 0}, {0, 0, 0.026 - 1e-5 / 3}};
   c.wall_velocities = {{}, {0, 0, -0.1}};
-  Contact a{0, 2, true, false, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
-  Contact b{1, 0, true, false, {{-4e-8, 0, 5e-8}, {0.125, 0}}};
+  Contact a{0, 2, true, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
+  Contact b{1, 0, true, {{-4e-8, 0, 5e-8}, {0.125, 0}}};
   c.pair_contacts = {a};
   c.wall_contacts = {b};
   return c;
@@ -150,8 +150,8 @@ TEST(CheckpointFormat, TheBytesDoNotDependOnTheNumberingOrOnEntriesThatDoNotTouc
     auto copy = array;
     for (std::size_t k = 0; k < 3; ++k) array[at[k]] = copy[k];
   });
-  r.pair_contacts = {{0, 1, false, false, {}}, {1, 2, true, false, c.pair_contacts[0].history}};  // ids (7002, 7000)
-  r.wall_contacts = {{0, 0, true, false, c.wall_contacts[0].history}, {1, 1, false, false, {}}};
+  r.pair_contacts = {{0, 1, false, {}}, {1, 2, true, c.pair_contacts[0].history}};  // ids (7002, 7000)
+  r.wall_contacts = {{0, 0, true, c.wall_contacts[0].history}, {1, 1, false, {}}};
   const std::string bytes = encode_checkpoint(c);
   EXPECT_TRUE(encode_checkpoint(r) == bytes);
   const Checkpoint d = decode_checkpoint(encode_checkpoint(r));
@@ -198,7 +198,7 @@ TEST(CheckpointFormat, APayloadOutOfTheFilesOrderIsRefused) {
   refused(patched(bytes, raw(std::uint32_t{0}, std::uint32_t{2}, c.pair_contacts[0].history.xi),
                   raw(std::uint32_t{2}, std::uint32_t{0}, c.pair_contacts[0].history.xi)),
           "not listed from its first particle");
-  c.pair_contacts.push_back({1, 2, true, false, {{7e-9, 0, 0}, {0, 0}}});
+  c.pair_contacts.push_back({1, 2, true, {{7e-9, 0, 0}, {0, 0}}});
   refused(patched(encode_checkpoint(c), raw(std::uint32_t{1}, std::uint32_t{2}, Vec3{7e-9, 0, 0}),
                   raw(std::uint32_t{0}, std::uint32_t{1}, Vec3{7e-9, 0, 0})),
           "not sorted by (i, j)");

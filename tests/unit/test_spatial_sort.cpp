@@ -18,16 +18,16 @@ namespace tsubu {
 namespace {
 
 // Four grains placed against the Morton order, two pair contacts (one whose particles swap
-// order) and a wall contact, each with its own history (stored by id: here ids and indices
-// have the same order).
+// index order) and a wall contact, each with its own history (stored from the smaller id:
+// here ids and indices have the same order).
 TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
   auto [w, model] = testing::make_world({"grain", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5), 1e-6);
   w.domain = {{0, 0, 0}, {1, 1, 1}, {false, false, false}};
   const Vec3 at[4] = {{0.9, 0.9, 0.9}, {0.1, 0.1, 0.1}, {0.9, 0.1, 0.1}, {0.1, 0.9, 0.1}};
   for (int k = 0; k < 4; ++k) w.particles.add(10 + k, 0, 0.01 * (k + 1), 2500, at[k], {double(k), 0, 0});
   for (int k = 0; k < 4; ++k) w.particles.force[k] = {0, 0, double(k)};
-  w.contacts.assign({{0, 1, true, false, {{1, 2, 3}, {4, 0}}}, {1, 2, true, false, {{5, 6, 7}, {8, 0}}}},
-                    {{0, 0, true, false, {{9, 9, 9}, {0, 0}}}}, w.particles);
+  w.contacts.assign({{0, 1, true, {{1, 2, 3}, {4, 0}}}, {1, 2, true, {{5, 6, 7}, {8, 0}}}},
+                    {{0, 0, true, {{9, 9, 9}, {0, 0}}}}, w.particles);
   const Vec3* positions = w.particles.position.data();
   const std::int64_t* ids = w.particles.id.data();
   sort_spatially(w);
@@ -45,20 +45,18 @@ TEST(SpatialSort, ParticlesCarryTheirDataAndContactsFollow) {
     EXPECT_EQ(p.force[i].z, k);
     EXPECT_DOUBLE_EQ(p.radius[i], 0.005 * (k + 1));
   }
-  // Pair ids (10, 11) became indices (3, 0): swapped, so the laws, which see a pair from its
-  // first index, see the spring reversed (stored by id, it is unchanged). Ids (11, 12)
-  // became (0, 1): kept. Sorted by (i, j).
+  // Pair ids (11, 12) became indices (0, 1). Ids (10, 11) became (3, 0): still seen from
+  // id 10, now the larger index, with its history unchanged. Sorted by (i, id of j).
   const std::vector<Contact>& pairs = w.contacts.pairs();
   ASSERT_EQ(pairs.size(), 2u);
   EXPECT_EQ(pairs[0].i, 0u);
   EXPECT_EQ(pairs[0].j, 1u);
-  EXPECT_EQ(pairs[0].law_history().xi, (Vec3{5, 6, 7}));
-  EXPECT_EQ(pairs[0].law_history().normal[0], 8);
-  EXPECT_EQ(pairs[1].i, 0u);
-  EXPECT_EQ(pairs[1].j, 3u);
-  EXPECT_EQ(pairs[1].law_history().xi, (Vec3{-1, -2, -3}));
-  EXPECT_EQ(pairs[1].law_history().normal[0], 4);
-  EXPECT_EQ(pairs[1].history.xi, (Vec3{1, 2, 3})) << "stored from id 10, whatever the indices";
+  EXPECT_EQ(pairs[0].history.xi, (Vec3{5, 6, 7}));
+  EXPECT_EQ(pairs[0].history.normal[0], 8);
+  EXPECT_EQ(pairs[1].i, 3u);
+  EXPECT_EQ(pairs[1].j, 0u);
+  EXPECT_EQ(pairs[1].history.xi, (Vec3{1, 2, 3})) << "seen from id 10, whatever the indices";
+  EXPECT_EQ(pairs[1].history.normal[0], 4);
   ASSERT_EQ(w.contacts.walls().size(), 1u);
   EXPECT_EQ(w.contacts.walls()[0].i, 3u);
   EXPECT_EQ(w.contacts.walls()[0].history.xi, (Vec3{9, 9, 9}));

@@ -175,11 +175,12 @@ class Reader {
 };
 
 // The particles are written in the order of their ids and only the touching contacts, each
-// pair from its smaller index (= its smaller id) and both lists sorted by (i, j) in that
-// numbering: the file does not depend on how the run numbered its particles (a spatial sort)
-// nor on when it last built its lists (the entries that do not touch carry an empty
-// history), so that runs of the same physics write the same bytes. The contact histories
-// are stored by id already (ContactList) and need no turn.
+// pair from its particle with the smaller id (the contact list's first particle; in the
+// file, the smaller index) and both lists sorted by (i, j) in that numbering: the file does
+// not depend on how the run numbered its particles (a spatial sort) nor on when it last
+// built its lists (the entries that do not touch carry an empty history), so that runs of
+// the same physics write the same bytes. The contact histories are stored from the smaller
+// id already (ContactList) and need no turn.
 struct FileOrder {
   std::vector<std::size_t> particles;  // particles[k]: the index of the particle written k-th
   std::vector<Contact> pairs, walls;   // renumbered to the file's order
@@ -190,7 +191,7 @@ struct FileOrder {
     for (Contact k : c.pair_contacts) {
       if (!k.touching) continue;
       k.i = position[k.i], k.j = position[k.j];
-      if (k.i > k.j) std::swap(k.i, k.j);
+      if (k.i > k.j) std::swap(k.i, k.j);  // a pair given the other way round (not by a contact list)
       pairs.push_back(k);
     }
     for (Contact k : c.wall_contacts)

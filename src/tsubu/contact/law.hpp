@@ -36,8 +36,9 @@ constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry
 
 // A law is well formed: checked at compile time for every registered law (law.cpp) and for
 // a law a test registers. A normal law's history slots are ContactHistory::normal[0..] and
-// keep on a swap, a tangential law's the spring xi, which is negated
-// (world/contact_list.hpp implements these swaps and no other); a law runs with block steps
+// keep on a swap, a tangential law's the spring xi, which is negated (the transforms
+// world/contact_list.hpp lists at Contact, and no other: with them a pair's force does not
+// depend on which of its particles the laws see it from); a law runs with block steps
 // exactly when its force has rates.
 template <class Law>
 constexpr bool well_formed_normal_law() {
@@ -47,7 +48,7 @@ constexpr bool well_formed_normal_law() {
     for (const HistorySlot& h : traits_of<Law>().history)
       if (h.swap != Swap::keep) return false;
     return true;
-  }(), "a normal history slot must keep on a swap (or be added to Contact::law_history)");
+  }(), "a normal history slot must keep on a swap (or be listed at Contact, world/contact_list.hpp)");
   static_assert(t.allows("block_hermite") == has_rates_v<Law>, "block steps need rates: declare integrators = {kFixedSteps}");
   return true;
 }

@@ -103,8 +103,8 @@ inline constexpr IntegratorRule kSymplecticEulerOnly{{"symplectic_euler", "", ""
 // ---- History ---------------------------------------------------------------------------
 
 // How a history slot changes when the pair is seen from its other particle
-// (world/contact_list.hpp, Contact::law_history): a property of the pair keeps, a vector in
-// the contact plane is negated.
+// (world/contact_list.hpp, Contact): a property of the pair keeps, a vector in the contact
+// plane is negated.
 enum class Swap { keep, negate };
 // A normal law's slots are ContactHistory::normal[0], [1], ... in order (they keep); a
 // tangential law's one slot is the spring ContactHistory::xi (it is negated).

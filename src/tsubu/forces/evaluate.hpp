@@ -239,7 +239,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   if constexpr (!kRates)
     if (shifts_)
       for (std::size_t e = 0; e < entries.size(); ++e) pair_results_.shift_i[entries[e]] = pair_results_.shift_j[entries[e]] = {};
-  // The touching pairs' geometry and history (as the laws see it, from i) go into lanes.
+  // The touching pairs' geometry and history (the laws', stored from i) go into lanes.
   Lanes<kBlock, T> lanes;
   for (std::size_t b = 0; b < m; ++b) {
     const Contact& c = contacts[touching[b]];
@@ -247,7 +247,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const auto& d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
     lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
                        state.step(c.i, c.j));
-    lanes.set_history(b, c.law_history());
+    lanes.set_history(b, c.history);
   }
   if (shared) {
     visit_law<T>(*shared, [&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, normal, tangential); });
@@ -259,7 +259,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
   for (std::size_t b = 0; b < m; ++b) {
     const std::size_t k = touching[b];
     Contact& c = contacts[k];
-    c.set_law_history(lanes.history(b));
+    c.history = lanes.history(b);
     const Vector<T> n = lanes.get(lanes.n, b), total = lanes.get(lanes.total, b);
     const Vector<T> n_x_ft = cross(n, lanes.get(lanes.tangential, b));
     const T delta = lanes.delta[b];

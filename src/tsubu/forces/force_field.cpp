@@ -114,9 +114,15 @@ void ForceField::build_lists(World& world, const Particles& probe, double margin
   contacts.release_index();
   grid_.configure(model_->search);
   std::vector<Pair> candidates;
+  // A run split among processes lists only the contacts of its own particles: a pair of two
+  // copies of other processes' particles (World::ghosts), or a copy and a wall, is evaluated
+  // by the process that owns them.
+  const std::size_t owned = world.owned();
   grid_.find_pairs(probe, world.domain, margin, candidates);
-  contacts.carry_pairs(candidates);
+  std::erase_if(candidates, [&](const Pair& e) { return e.i >= owned && e.j >= owned; });
+  contacts.carry_pairs(candidates, world.particles);
   find_wall_contacts(world, probe, margin, wall_reach, candidates);
+  std::erase_if(candidates, [&](const Pair& e) { return e.i >= owned; });
   contacts.carry_walls(candidates);
   contacts.index(world.particles);
   if (keep_records) follow_lists(contacts);
@@ -195,9 +201,10 @@ void ForceField::evaluate_walls(World& world) {
 
 void ForceField::accumulate(World& world, double fluid_lead) {
   Particles& p = world.particles;
-  // Each particle gathers its own contacts in ascending contact order, so the sums are the
-  // same bits for every thread count (and no two threads write the same particle). Listed
-  // pairs that do not touch hold zeros and are added without a test (no branch to miss).
+  // Each particle gathers its own contacts in a fixed order (its partners' ids, then its
+  // walls: gather), so the sums are the same bits for every thread count and numbering (and
+  // no two threads write the same particle). Listed pairs that do not touch hold zeros and
+  // are added without a test (no branch to miss).
   const int threads = threads_for(p.size());
   std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);

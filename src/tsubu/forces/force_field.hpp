@@ -23,13 +23,14 @@ struct ContactTotals {
 };
 
 // A touching contact as the last evaluation left it, for output (contact network frames,
-// tsubu export). `j` is the partner's particle index, or the wall's index when `wall`.
+// tsubu export). `j` is the partner's particle index (a pair's i is its particle with the
+// smaller id: the contact list's orientation), or the wall's index when `wall`.
 struct ContactRecord {
   std::uint32_t i = 0, j = 0;
   bool wall = false;
   Vec3 normal_force, tangential_force;  // N, on particle i; their sum is the contact's force on i
   double overlap = 0;                   // m
-  ContactHistory history;               // the model's memory (tangential spring, normal slots)
+  ContactHistory history;               // the model's memory (tangential spring, normal slots), from i
 };
 
 // Block steps: how an evaluation bounds the next step of each particle from its contacts

@@ -10,7 +10,7 @@ std::vector<ContactRecord> ForceField::touching_contacts(const World& world) con
   auto add = [&](const Contact& c, const Results::Entry& e, bool wall, const Vec3& n) {
     // n x F_t with F_t in the tangent plane: F_t = (n x F_t) x n.
     const Vec3 tangential = cross(e.n_x_ft, n);
-    out.push_back({c.i, c.j, wall, e.force_i - tangential, tangential, e.delta, wall ? c.history : c.law_history()});
+    out.push_back({c.i, c.j, wall, e.force_i - tangential, tangential, e.delta, c.history});
   };
   const std::vector<Contact>& pairs = world.contacts.pairs();
   const std::vector<Contact>& walls = world.contacts.walls();

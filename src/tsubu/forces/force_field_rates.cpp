@@ -33,7 +33,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   parallel_for(active.size(), [&](std::size_t q) {
     std::uint32_t block[kBlock];
     std::size_t m = 0;
-    contacts.for_each_contact_of(active[q], [&](std::uint32_t k, int side) {
+    contacts.for_each_contact_of(active[q], [&](std::uint32_t k, auto side) {
       if (side == 0) {
         evaluate_wall(world, state, k, &rules);
       } else if (side > 0 || !is_active[pairs[k].i]) {
@@ -102,7 +102,7 @@ void ForceField::dashpot_response(const World& world, const std::vector<std::uin
   parallel_for(active.size(), [&](std::size_t q) {
     const std::uint32_t i = active[q];
     Vec3 force, torque;
-    contacts.for_each_contact_of(i, [&](std::uint32_t c, int side) {
+    contacts.for_each_contact_of(i, [&](std::uint32_t c, auto side) {
       const Results& res = side == 0 ? wall_results_ : pair_results_;
       const Rates& rt = side == 0 ? wall_rates_[c] : pair_rates_[c];
       const double delta = res.entry[c].delta;

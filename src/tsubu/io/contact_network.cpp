@@ -14,30 +14,25 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
   out.reserve(contacts.size());
   for (const ContactRecord& c : contacts) {
     NetworkContact n;
-    // A pair seen from its particle with the smaller id (the forces on it: the record's
-    // negated, to the bit, when that is the record's j).
-    const bool turned = !c.wall && p.id[c.j] < p.id[c.i];
-    const std::size_t i = turned ? c.j : c.i;
-    const double sign = turned ? -1.0 : 1.0;
-    n.id_i = p.id[i];
-    n.centre_i = p.position[i];
+    // A pair seen from its particle with the smaller id: the record's i (the contact list's
+    // orientation, world/contact_list.hpp), so the record's forces and history are the pair's.
+    n.id_i = p.id[c.i];
+    n.centre_i = p.position[c.i];
     if (c.wall) {
       n.wall = static_cast<int>(c.j);
       const Wall& w = world.walls[c.j];
       n.branch = -w.distance(n.centre_i) * w.normal;  // the foot of the centre on the plane
     } else {
-      const std::size_t j = turned ? c.i : c.j;
-      n.id_j = p.id[j];
-      n.branch = -world.domain.separation(n.centre_i, p.position[j]);
+      n.id_j = p.id[c.j];
+      n.branch = -world.domain.separation(n.centre_i, p.position[c.j]);
     }
     // Pairs: the lever arm of the torques, r_i - overlap/2 along the line of centres.
-    const double arm = c.wall ? norm(n.branch) : p.radius[i] - 0.5 * c.overlap;
+    const double arm = c.wall ? norm(n.branch) : p.radius[c.i] - 0.5 * c.overlap;
     n.point = n.centre_i + (arm / norm(n.branch)) * n.branch;
-    n.normal_force = sign * c.normal_force;
-    n.tangential_force = sign * c.tangential_force;
+    n.normal_force = c.normal_force;
+    n.tangential_force = c.tangential_force;
     n.overlap = c.overlap;
-    n.history = c.history;  // as the law saw it, from the record's i: turned, the spring negated back
-    if (turned) n.history.xi = -n.history.xi;
+    n.history = c.history;  // as the law saw it, from i
     out.push_back(n);
   }
   // Pairs by (id_i, id_j), then walls by (id, wall): the same file whatever the numbering.

@@ -1,12 +1,13 @@
 #include "tsubu/ranks/communicator.hpp"
 
-#include <cstdlib>
-#include <limits>
-#include <numeric>
 #include <stdexcept>
 
 #ifdef TSUBU_HAVE_MPI
 #include <mpi.h>
+
+#include <cstdlib>
+#include <limits>
+#include <numeric>
 #endif
 
 namespace tsubu {

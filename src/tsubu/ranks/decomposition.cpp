@@ -5,6 +5,8 @@
 #include <type_traits>
 #include <unordered_map>
 
+#include "tsubu/world/spatial_sort.hpp"
+
 namespace tsubu {
 
 namespace {
@@ -57,12 +59,37 @@ void read_parcel(const std::string& bytes, Particles& particles, std::vector<Con
   for (std::uint64_t k = 0; k < n; ++k) links.push_back(take<ContactLink>(bytes, at));
 }
 
-// The particles' arrays reordered by `order` (order[new] = old).
-void reorder(Particles& p, const std::vector<std::size_t>& order) {
-  p.for_each_array([&](auto& array) {
-    auto old = array;
-    for (std::size_t k = 0; k < order.size(); ++k) array[k] = old[order[k]];
+// The particles in id order.
+void in_id_order(Particles& p) {
+  const std::vector<std::size_t> order = p.in_id_order();
+  p.for_each_array([&](auto& array) { permute(array, order); });
+}
+
+// The contacts of `links` (by ids; histories as seen from the smaller id) as the lists over
+// the particles p, the first `owned` of them this process's: each contact once, and only
+// those this process evaluates: a wall's with an owned particle, a pair's with at least one.
+void assign_contacts(ContactList& contacts, std::vector<ContactLink> links, const Particles& p, std::size_t owned) {
+  std::sort(links.begin(), links.end(), [](const ContactLink& x, const ContactLink& y) {
+    return x.wall != y.wall ? x.wall < y.wall : (x.a != y.a ? x.a < y.a : x.b < y.b);
   });
+  links.erase(std::unique(links.begin(), links.end(),
+                          [](const ContactLink& x, const ContactLink& y) { return x.wall == y.wall && x.a == y.a && x.b == y.b; }),
+              links.end());
+  std::unordered_map<std::int64_t, std::uint32_t> index;
+  for (std::uint32_t i = 0; i < p.size(); ++i) index.emplace(p.id[i], i);
+  std::vector<Contact> pairs, walls;
+  for (const ContactLink& l : links) {
+    const auto a = index.find(l.a);
+    if (a == index.end()) continue;
+    if (l.wall >= 0) {
+      if (a->second < owned) walls.push_back({a->second, static_cast<std::uint32_t>(l.wall), true, l.history});
+      continue;
+    }
+    const auto b = index.find(l.b);
+    if (b != index.end() && (a->second < owned || b->second < owned))
+      pairs.push_back({a->second, b->second, true, l.history});
+  }
+  contacts.assign(std::move(pairs), std::move(walls), p);  // sorts them into the lists' order
 }
 
 }  // namespace
@@ -98,7 +125,7 @@ void Decomposition::distribute(World& world) {
 }
 
 void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLink> links) {
-  reorder(owned, owned.in_id_order());
+  in_id_order(owned);
   const std::size_t n = owned.size(), processes = static_cast<std::size_t>(comm_.size());
   sent_.assign(processes, {});
   std::vector<std::string> copies(processes);
@@ -123,31 +150,7 @@ void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLi
   }
   world.ghosts = p.size() - n;
 
-  // The contacts of the owned particles, each once, from the ids to this process's indices.
-  std::unordered_map<std::int64_t, std::uint32_t> index;
-  for (std::uint32_t i = 0; i < p.size(); ++i) index.emplace(p.id[i], i);
-  std::sort(links.begin(), links.end(), [](const ContactLink& x, const ContactLink& y) {
-    return x.wall != y.wall ? x.wall < y.wall : (x.a != y.a ? x.a < y.a : x.b < y.b);
-  });
-  links.erase(std::unique(links.begin(), links.end(),
-                          [](const ContactLink& x, const ContactLink& y) { return x.wall == y.wall && x.a == y.a && x.b == y.b; }),
-              links.end());
-  std::vector<Contact> pairs, walls;
-  for (const ContactLink& l : links) {
-    const auto a = index.find(l.a);
-    if (a == index.end()) continue;
-    if (l.wall >= 0) {
-      if (a->second < n) walls.push_back({a->second, static_cast<std::uint32_t>(l.wall), true, false, l.history});
-      continue;
-    }
-    const auto b = index.find(l.b);
-    if (b == index.end() || (a->second >= n && b->second >= n)) continue;
-    pairs.push_back({std::min(a->second, b->second), std::max(a->second, b->second), true, false, l.history});
-  }
-  const auto by_pair = [](const Contact& x, const Contact& y) { return x.i != y.i ? x.i < y.i : x.j < y.j; };
-  std::sort(pairs.begin(), pairs.end(), by_pair);
-  std::sort(walls.begin(), walls.end(), by_pair);
-  world.contacts.assign(std::move(pairs), std::move(walls), p);
+  assign_contacts(world.contacts, std::move(links), p, n);
   arranged_at_.assign(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(n));
   ++arrangements_;
 }
@@ -222,20 +225,8 @@ World Decomposition::gathered(const World& world) const {
   if (parts.empty()) return all;
   std::vector<ContactLink> links;
   for (const std::string& bytes : parts) read_parcel(bytes, all.particles, links);
-  reorder(all.particles, all.particles.in_id_order());
-  std::unordered_map<std::int64_t, std::uint32_t> index;
-  for (std::uint32_t i = 0; i < all.particles.size(); ++i) index.emplace(all.particles.id[i], i);
-  std::vector<Contact> pairs, walls;
-  for (const ContactLink& l : links) {
-    if (l.wall >= 0) walls.push_back({index.at(l.a), static_cast<std::uint32_t>(l.wall), true, false, l.history});
-    else pairs.push_back({index.at(l.a), index.at(l.b), true, false, l.history});
-  }
-  const auto by_pair = [](const Contact& x, const Contact& y) { return x.i != y.i ? x.i < y.i : x.j < y.j; };
-  const auto same = [](const Contact& x, const Contact& y) { return x.i == y.i && x.j == y.j; };
-  std::sort(pairs.begin(), pairs.end(), by_pair);
-  pairs.erase(std::unique(pairs.begin(), pairs.end(), same), pairs.end());
-  std::sort(walls.begin(), walls.end(), by_pair);
-  all.contacts.assign(std::move(pairs), std::move(walls), all.particles);
+  in_id_order(all.particles);
+  assign_contacts(all.contacts, std::move(links), all.particles, all.particles.size());
   return all;
 }
 

@@ -17,9 +17,10 @@ std::vector<std::uint32_t> sort_spatially(World& world);
 
 // Another per-particle store follows the same renumbering: a[new] = a[order[new]] (order as
 // sort_spatially returns it). In place: the array keeps its storage, so views into it (the
-// Python binding's NumPy arrays) stay valid across a sort.
-template <class T>
-void permute(std::vector<T>& a, const std::vector<std::uint32_t>& order) {
+// Python binding's NumPy arrays) stay valid across a sort. Any order of the same form will
+// do (Particles::in_id_order()'s, for one).
+template <class T, class Index>
+void permute(std::vector<T>& a, const std::vector<Index>& order) {
   const std::vector<T> unsorted = a;
   for (std::size_t k = 0; k < order.size(); ++k) a[k] = unsorted[order[k]];
 }
