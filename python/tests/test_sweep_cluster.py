@@ -48,6 +48,21 @@ def array_script(file, cwd):
     return done.stdout.split("):\n", 1)[1]
 
 
+def test_a_case_is_a_job_of_its_own(tmp_path, monkeypatch):
+    """A worker of an MPI pool carries the variables of its place in the pool's job; a case's
+    command must not (tsubu would refuse to run as one of several processes)."""
+    from tsubu.sweep import start_run
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "3")
+    monkeypatch.setenv("PMIX_RANK", "1")
+    monkeypatch.setenv("OMPI_MCA_btl", "self")
+    proc, log = start_run(["env"], tmp_path / "log")
+    assert proc.wait() == 0
+    log.close()
+    seen = (tmp_path / "log").read_text()
+    assert "OMPI_COMM_WORLD_SIZE" not in seen and "PMIX_RANK" not in seen
+    assert "OMPI_MCA_btl=self" in seen  # a setting of the user's stays
+
+
 def test_the_array_script(tmp_path):
     """Every #SBATCH line from the sweep file, a case line per case, multi-rank cases by srun."""
     file = slurm_table(write_sweep(tmp_path / "s.toml", tmp_path / "out", jobs=2, threads=2, ranks=3),

@@ -488,8 +488,16 @@ def start_run(command, log_path):
         log = open(log_path, "a")
         print(f"$ {' '.join(map(_quote, command))}", file=log, flush=True)
     proc = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                            start_new_session=True)
+                            start_new_session=True, env=_own_job_environment())
     return proc, log
+
+
+def _own_job_environment():
+    """The environment of a case's command: the sweep's, without the variables that place a
+    process in an MPI job (a worker of an MPI pool has them), since each case is a job of its
+    own: tsubu would take itself for one of the pool's processes, an mpirun for a nested one."""
+    mpi_job = ("OMPI_COMM_WORLD_", "OMPI_UNIVERSE_SIZE", "PMI_", "PMIX_")
+    return {k: v for k, v in os.environ.items() if not k.startswith(mpi_job)}
 
 
 def record_end(case, returncode, log_path, progress):

@@ -1,11 +1,12 @@
 // The command line (docs/cli.md): OMP_NUM_THREADS sets the threads when --threads is not
-// given, a bad value is refused (exit 2), and a --set string written without quotes gets a
+// given, a bad value is refused (exit 2), copies started by mpirun are refused, and a --set string written without quotes gets a
 // hint that shows the quoting.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "tsubu_process.hpp"
 
@@ -50,6 +51,29 @@ TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
         << slurp(log);
     EXPECT_FALSE(fs::exists(dir.path() / "out")) << value;
   }
+}
+
+// Copies started by an MPI launcher would each run the whole scenario into one folder: they
+// are refused until a run is split among processes from the command line.
+TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out", log = dir.path() / "log";
+  for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}}) {
+    const auto copy = [&](const char* r) {
+      return run({"run", kValidSmall, "--out", out.string()}, log, [&] { setenv(size, "3", 1), setenv(rank, r, 1); });
+    };
+    EXPECT_EQ(copy("0"), 2) << slurp(log);
+    EXPECT_NE(slurp(log).find("error: started as 3 processes (mpirun): `tsubu run` runs as one process"), std::string::npos)
+        << slurp(log);
+    EXPECT_EQ(copy("2"), 2) << slurp(log);
+    EXPECT_EQ(slurp(log), "");  // one copy says why
+    EXPECT_FALSE(fs::exists(out)) << size;
+  }
+  // One process of a launcher runs.
+  EXPECT_EQ(run({"run", kValidSmall, "--out", out.string(), "--set", "simulation.duration=1e-4"}, log,
+                [] { setenv("OMPI_COMM_WORLD_SIZE", "1", 1); }),
+            0)
+      << slurp(log);
 }
 
 TEST(CommandLine, AnUnquotedSetStringGetsAQuotingHint) {

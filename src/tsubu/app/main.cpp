@@ -37,6 +37,28 @@ int threads_from_environment() {
   return static_cast<int>(n);
 }
 
+// How many copies of this command an MPI launcher started (Open MPI's mpirun, or one that
+// speaks PMI: MPICH's mpiexec, srun --mpi=pmi2), from the variables it sets for its
+// processes: 1 when none did. A run is not yet split among
+// processes from the command line (docs/parallel.md): N copies would each run the whole
+// scenario into one folder, so they are refused (only process 0 says why).
+void refuse_several_processes(const char* command) {
+  long processes = 1, rank = 0;
+  for (const auto& [size, rank_of] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+                                      std::pair{"PMI_SIZE", "PMI_RANK"}}) {
+    const char* n = std::getenv(size);
+    if (!n || std::atol(n) <= processes) continue;
+    processes = std::atol(n);
+    const char* r = std::getenv(rank_of);
+    rank = r ? std::atol(r) : 0;
+  }
+  if (processes == 1) return;
+  if (rank != 0) std::exit(2);
+  throw tsubu::UsageError("started as " + std::to_string(processes) + " processes (mpirun): `tsubu " + command +
+                          "` runs as one process; a run split among processes is not yet available from the command "
+                          "line (docs/parallel.md). Start one process, with --threads for the cores of a node");
+}
+
 // What `tsubu check` prints about the time step (docs/cli.md, "Time scales and the time step").
 void print_time_scales(const tsubu::Scenario& sc, tsubu::World world, int threads) {
   const tsubu::TimeScales ts = tsubu::time_scales(sc, world);
@@ -146,6 +168,8 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
+    if (run->parsed() || resume->parsed() || exporter->parsed())
+      refuse_several_processes(run->parsed() ? "run" : resume->parsed() ? "resume" : "export");
     if (run->parsed() || resume->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
     if (exporter->parsed()) {
       if (at->count() && !std::isfinite(export_at))
