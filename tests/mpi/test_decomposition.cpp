@@ -1,7 +1,8 @@
 // Runs split among processes (ranks/decomposition.hpp) end with the bits of one process.
 // Each test runs under `mpirun -np N` (tests/CMakeLists.txt: N = 1 to 4, one and two threads
 // per process); process 0 also runs the scenario alone and compares the states a checkpoint
-// stores (every particle array, the touching contacts and their histories, the walls).
+// stores (every particle array, the touching contacts and their histories, the walls) and
+// the outputs that read the contacts' forces (gathered with them on process 0).
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu/io/contact_network.hpp"
 #include "tsubu/ranks/decomposition.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -18,6 +20,21 @@
 
 namespace tsubu {
 namespace {
+
+// The outputs of one process that read the last evaluation's contacts: the totals of the
+// time series, every wall's load and the contact network, as bytes.
+std::string contact_outputs_of(const World& w, const ForceField& forces) {
+  std::string out;
+  const auto put = [&](const auto& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  const ContactTotals t = forces.totals(w);
+  put(t.contacts), put(t.elastic_energy), put(t.max_overlap_ratio);
+  for (std::size_t k = 0; k < w.walls.size(); ++k) put(forces.wall_load(w, k));
+  for (const NetworkContact& c : contact_network(w, forces.touching_contacts(w))) {
+    put(c.id_i), put(c.id_j), put(c.wall), put(c.centre_i), put(c.point), put(c.branch), put(c.normal_force);
+    put(c.tangential_force), put(c.overlap), put(c.history.xi), put(c.history.normal);
+  }
+  return out;
+}
 
 // The state a checkpoint stores of a world (particles by id, touching contacts), as bytes.
 std::string state_of(const World& w) {
@@ -54,7 +71,7 @@ void expect_same_bits(const Case& c) {
   split.start();
   split.advance_to(steps);
   const bool ghosts = comm.any(split.world().ghosts > 0);
-  const World all = decomposition.gathered(split.world());
+  Decomposition::Gathered all = decomposition.gathered(split.world(), split.forces());
   if (comm.rank() != 0) return;
   const std::array<int, 3>& g = decomposition.grid().counts();
   SCOPED_TRACE(c.scenario + " on " + std::to_string(comm.size()) + " processes (" + std::to_string(g[0]) + " x " +
@@ -66,8 +83,13 @@ void expect_same_bits(const Case& c) {
   Simulation alone(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
   alone.start();
   alone.advance_to(steps);
-  ASSERT_EQ(all.particles.size(), alone.world().particles.size());
-  EXPECT_TRUE(state_of(all) == state_of(alone.world())) << "the split run's state differs from one process's";
+  ASSERT_EQ(all.world.particles.size(), alone.world().particles.size());
+  EXPECT_TRUE(state_of(all.world) == state_of(alone.world())) << "the split run's state differs from one process's";
+  ForceField view(alone.model());  // the gathered contacts' outputs, as one process writes them
+  view.adopt_results(std::move(all.pair_results), std::move(all.wall_results));
+  EXPECT_GT(view.totals(all.world).contacts, 0u);
+  EXPECT_TRUE(contact_outputs_of(all.world, view) == contact_outputs_of(alone.world(), alone.forces()))
+      << "the split run's contact totals, wall loads or contact network differ from one process's";
 }
 
 // Grains poured onto a floor in a box periodic along x and y, velocity Verlet, Hertz with

@@ -71,6 +71,14 @@ struct BodyLoad {
   Vec3 force, torque;
 };
 
+// One contact's result of the last evaluation, as seen from its particle i (a pair's with the
+// smaller id): the force on i, n x F_t (n from j, or the wall, to i), the overlap (> 0 when
+// touching) and the elastic energy stored.
+struct ContactResult {
+  Vec3 force_i, n_x_ft;
+  double delta = 0, energy = 0;
+};
+
 // The particles of other processes, in a run split among them (ranks/decomposition.hpp):
 // brought up to date before every evaluation.
 class Neighbourhood {
@@ -171,6 +179,15 @@ class ForceField {
   // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
   // N, from the last evaluation.
   double wall_load(const World& world, std::size_t wall) const;
+  // The result of the last evaluation of entry k of world.contacts' pair or wall list.
+  const ContactResult& pair_result(std::size_t k) const { return pair_results_.entry[k]; }
+  const ContactResult& wall_result(std::size_t k) const { return wall_results_.entry[k]; }
+  // The results of contacts evaluated elsewhere, for the outputs above: a run split among
+  // processes gathered on one (Decomposition::gathered). One per entry of world.contacts'
+  // lists.
+  void adopt_results(std::vector<ContactResult> pairs, std::vector<ContactResult> walls) {
+    pair_results_.entry = std::move(pairs), wall_results_.entry = std::move(walls);
+  }
   // Whether the current lists have been evaluated (not yet after a resume from a checkpoint,
   // until the next step): touching_contacts() is then complete.
   bool evaluated(const World& world) const;
@@ -190,10 +207,7 @@ class ForceField {
   // not 104).
   // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
   struct Results {
-    struct Entry {  // together: the gather reads a partner's contact from one place
-      Vec3 force_i, n_x_ft;
-      double delta = 0, energy = 0;
-    };
+    using Entry = ContactResult;  // together: the gather reads a partner's contact from one place
     std::vector<Entry> entry;
     std::vector<Vec3> shift_i, shift_j;
     void resize(std::size_t n, bool shifts);
@@ -206,7 +220,7 @@ class ForceField {
   // Rates of the block-step evaluations, per contact (the results' companions), filled by
   // the evaluation's rate channel.
   struct Rates {
-    Vec3 force_i, n_x_ft;  // d/dt of Results::Entry's force_i and n_x_ft
+    Vec3 force_i, n_x_ft;  // d/dt of ContactResult's force_i and n_x_ft
     double delta = 0;      // d(overlap)/dt
     double step_bound = 0; // s, see ContactStepRules
     Vec3 n;                // unit normal from j to i (dashpot_response)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <tuple>
 #include <type_traits>
 #include <unordered_map>
 
@@ -11,7 +12,7 @@ namespace tsubu {
 
 namespace {
 
-static_assert(std::is_trivially_copyable_v<ContactLink>);
+static_assert(std::is_trivially_copyable_v<ContactLink> && std::is_trivially_copyable_v<ContactResult>);
 
 template <class T>
 void put(std::string& out, const T& v) {
@@ -92,23 +93,34 @@ void assign_contacts(ContactList& contacts, std::vector<ContactLink> links, cons
   contacts.assign(std::move(pairs), std::move(walls), p);  // sorts them into the lists' order
 }
 
+// Calls visit(link, wall, k) for each touching contact of the owned particles: entry k of
+// the pair list (wall false) or of the wall list.
+template <class Visit>
+void for_each_link(const World& world, Visit visit) {
+  const std::vector<std::int64_t>& id = world.particles.id;
+  const std::size_t owned = world.owned();
+  const std::vector<Contact>& pairs = world.contacts.pairs();
+  const std::vector<Contact>& walls = world.contacts.walls();
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (const Contact& c = pairs[k]; c.touching && (c.i < owned || c.j < owned))
+      visit(ContactLink{id[c.i], id[c.j], -1, c.history}, false, k);  // i: the smaller id
+  for (std::size_t k = 0; k < walls.size(); ++k)
+    if (const Contact& c = walls[k]; c.touching && c.i < owned)
+      visit(ContactLink{id[c.i], 0, static_cast<std::int64_t>(c.j), c.history}, true, k);
+}
+
+// The touching contacts of the owned particles.
+std::vector<ContactLink> links_of(const World& world) {
+  std::vector<ContactLink> links;
+  for_each_link(world, [&](const ContactLink& l, bool, std::size_t) { links.push_back(l); });
+  return links;
+}
+
 }  // namespace
 
 Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
                              std::array<int, 3> counts)
     : comm_(comm), grid_(domain, comm.size(), counts), skin_(skin), width_(2 * reach + skin) {}
-
-std::vector<ContactLink> Decomposition::links_of(const World& world) {
-  const Particles& p = world.particles;
-  const std::size_t owned = world.owned();
-  std::vector<ContactLink> links;
-  for (const Contact& c : world.contacts.pairs())
-    if (c.touching && (c.i < owned || c.j < owned))
-      links.push_back({std::min(p.id[c.i], p.id[c.j]), std::max(p.id[c.i], p.id[c.j]), -1, c.history});
-  for (const Contact& c : world.contacts.walls())
-    if (c.touching && c.i < owned) links.push_back({p.id[c.i], 0, static_cast<std::int64_t>(c.j), c.history});
-  return links;
-}
 
 void Decomposition::distribute(World& world) {
   world.ghosts = 0;
@@ -212,21 +224,44 @@ bool Decomposition::update(World& world) {
   return true;
 }
 
-World Decomposition::gathered(const World& world) const {
+Decomposition::Gathered Decomposition::gathered(const World& world, const ForceField& forces) const {
+  // Each touching contact of the owned particles with its result; a pair across a cut comes
+  // from both its processes, alike (the same bits), and is kept once.
   Parcel mine;
   for (std::size_t i = 0; i < world.owned(); ++i) pack(world.particles, i, mine.particles), ++mine.particle_count;
-  for (const ContactLink& l : links_of(world)) put(mine.links, l), ++mine.link_count;
-  World all;
-  all.domain = world.domain;
-  all.walls = world.walls;
-  all.dt = world.dt, all.time = world.time, all.step = world.step;
-  all.source_ids = world.source_ids;
+  for_each_link(world, [&](const ContactLink& l, bool wall, std::size_t k) {
+    put(mine.links, l), put(mine.links, wall ? forces.wall_result(k) : forces.pair_result(k)), ++mine.link_count;
+  });
+  Gathered all;
+  World& w = all.world;
+  w.domain = world.domain;
+  w.walls = world.walls;
+  w.dt = world.dt, w.time = world.time, w.step = world.step;
+  w.source_ids = world.source_ids;
   const std::vector<std::string> parts = comm_.gather(mine.bytes());
   if (parts.empty()) return all;
+  std::vector<std::pair<ContactLink, ContactResult>> records;
+  for (const std::string& bytes : parts) {
+    std::size_t at = 0;
+    unpack(bytes, at, take<std::uint64_t>(bytes, at), w.particles);
+    for (auto n = take<std::uint64_t>(bytes, at); n > 0; --n) {
+      const auto l = take<ContactLink>(bytes, at);
+      records.emplace_back(l, take<ContactResult>(bytes, at));
+    }
+  }
+  in_id_order(w.particles);
+  // In the lists' order once the particles are in id order: pairs by (first id, second id),
+  // then walls by (particle's id, wall).
+  const auto key = [](const ContactLink& l) { return std::tuple(l.wall >= 0, l.a, l.wall >= 0 ? l.wall : l.b); };
+  std::sort(records.begin(), records.end(), [&](const auto& x, const auto& y) { return key(x.first) < key(y.first); });
+  records.erase(std::unique(records.begin(), records.end(), [&](const auto& x, const auto& y) { return key(x.first) == key(y.first); }),
+                records.end());
   std::vector<ContactLink> links;
-  for (const std::string& bytes : parts) read_parcel(bytes, all.particles, links);
-  in_id_order(all.particles);
-  assign_contacts(all.contacts, std::move(links), all.particles, all.particles.size());
+  for (const auto& [l, r] : records) {
+    links.push_back(l);
+    (l.wall >= 0 ? all.wall_results : all.pair_results).push_back(r);
+  }
+  assign_contacts(w.contacts, std::move(links), w.particles, w.particles.size());
   return all;
 }
 

@@ -49,9 +49,15 @@ class Decomposition final : public Neighbourhood {
   // Neighbourhood: before each evaluation.
   bool update(World& world) override;
   // The owned particles and their touching contacts of every process, on process 0, as one
-  // world: particles in the order of their ids, contacts as a checkpoint stores them (other
-  // processes get an empty world). For outputs and tests.
-  World gathered(const World& world) const;
+  // world: particles in the order of their ids, contacts as a checkpoint stores them, with
+  // the results of their last evaluation (`forces`'s) for the world's lists, which a force
+  // field adopts (ForceField::adopt_results) for the outputs of one process. Other processes
+  // get an empty world. For outputs and tests.
+  struct Gathered {
+    World world;
+    std::vector<ContactResult> pair_results, wall_results;
+  };
+  Gathered gathered(const World& world, const ForceField& forces) const;
 
  private:
   const Communicator& comm_;
@@ -66,8 +72,6 @@ class Decomposition final : public Neighbourhood {
   // them, possibly repeated) as the world's particles and lists, with new ghosts.
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
   void refresh_ghosts(World& world);
-  // The touching contacts of the owned particles.
-  static std::vector<ContactLink> links_of(const World& world);
 };
 
 }  // namespace tsubu
