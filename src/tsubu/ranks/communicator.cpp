@@ -1,13 +1,12 @@
 #include "tsubu/ranks/communicator.hpp"
 
-#include <stdexcept>
-
 #ifdef TSUBU_HAVE_MPI
 #include <mpi.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <numeric>
 #endif
 
 namespace tsubu {
@@ -30,15 +29,32 @@ void start_mpi() {
   });
 }
 
+// A limit of MPI's (its counts and offsets are int) met on one process: the others are
+// already inside the collective and would wait for ever, so the job ends here, saying why.
+[[noreturn]] void abort_job(const std::string& why) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::fprintf(stderr, "tsubu: process %d: %s\n", rank, why.c_str());
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::abort();  // MPI_Abort does not return
+}
+
+// Where each process's bytes begin in one buffer.
 std::vector<int> displacements(const std::vector<int>& counts) {
   std::vector<int> at(counts.size(), 0);
-  std::exclusive_scan(counts.begin(), counts.end(), at.begin(), 0);
+  long long total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    at[r] = static_cast<int>(std::min<long long>(total, std::numeric_limits<int>::max()));
+    total += counts[r];
+  }
+  if (total > std::numeric_limits<int>::max())
+    abort_job("the messages of all processes to this one exceed 2 GiB in one exchange (MPI counts bytes in int)");
   return at;
 }
 
 int count_of(std::size_t bytes) {
   if (bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw std::runtime_error("a message between processes exceeds 2 GiB");
+    abort_job("a message to another process exceeds 2 GiB (MPI counts bytes in int)");
   return static_cast<int>(bytes);
 }
 
