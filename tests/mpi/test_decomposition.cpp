@@ -8,10 +8,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu/app/simulation_state.hpp"
 #include "tsubu/io/contact_network.hpp"
 #include "tsubu/ranks/decomposition.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -126,6 +128,66 @@ TEST(Decomposition, APolydisperseBedKeepsTheBitsOnBothSearches) {
   const int n = Communicator::world().size();
   expect_same_bits({"tests/scenarios/poly_search.toml", {}, {n, 1, 1}});
   expect_same_bits({"tests/scenarios/poly_search.toml", {"search.method=\"cell\""}, {n, 1, 1}});
+}
+
+// A checkpoint's bytes of a run at its current step (the force counters, which count each
+// process's own evaluations, left out).
+std::string checkpoint_bytes(const Scenario& sc, Simulation& sim) {
+  Checkpoint c;
+  store_simulation(sc, sim, c);
+  c.evaluations = c.rebuilds = 0;
+  std::string bytes;
+  with_state_lent(sim, c, [&] { bytes = encode_checkpoint(c); });
+  return bytes;
+}
+
+// The checkpoint of a split run, written from its state gathered on process 0, is byte for
+// byte the checkpoint of one process at the same step; and a run resumed from a checkpoint
+// split among the processes (each reads it whole and keeps its part) ends with the bits of
+// one uninterrupted process. Together: a checkpoint written by any number of processes
+// resumes on any number.
+TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
+  const Communicator& comm = Communicator::world();
+  const int n = comm.size();
+  const Scenario sc =
+      load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/settle_mono.toml", {"simulation.duration=0.1"});
+  const std::int64_t steps = std::llround(sc.duration / sc.dt), half = steps / 2;
+  const auto split_among_processes = [&](Simulation& sim) {
+    const Particles& p = sim.world().particles;
+    Domain cut = sim.world().domain;
+    cut.upper.z = 0.02;
+    auto d = std::make_unique<Decomposition>(comm, cut, sim.forces().skin_of(sim.world()),
+                                             *std::max_element(p.radius.begin(), p.radius.end()), std::array{1, 1, n});
+    d->distribute(sim.world());
+    sim.forces().set_neighbourhood(d.get());
+    return d;
+  };
+  Simulation alone = new_simulation(sc);  // on every process: each reads the checkpoint whole
+  alone.start();
+  alone.advance_to(half);
+  const std::string checkpoint = checkpoint_bytes(sc, alone);
+
+  Simulation split = new_simulation(sc);
+  const auto first = split_among_processes(split);
+  split.start();
+  split.advance_to(half);
+  Decomposition::Gathered at_half = first->gathered(split.world(), split.forces());
+  if (comm.rank() == 0) {
+    Simulation gathered(std::move(at_half.world), build_model(sc), sc.integrator, sc.block_steps);
+    EXPECT_TRUE(checkpoint_bytes(sc, gathered) == checkpoint) << "a split run's checkpoint differs from one process's";
+  }
+
+  Checkpoint c = decode_checkpoint(checkpoint);
+  Simulation resumed = restore_simulation(sc, c, "checkpoint");
+  const auto second = split_among_processes(resumed);
+  resumed.advance_to(steps);
+  Decomposition::Gathered end = second->gathered(resumed.world(), resumed.forces());
+  alone.advance_to(steps);
+  if (comm.rank() != 0) return;
+  EXPECT_TRUE(state_of(end.world) == state_of(alone.world())) << "the resumed split run's state differs from one process's";
+  ForceField view(alone.model());
+  view.adopt_results(std::move(end.pair_results), std::move(end.wall_results));
+  EXPECT_TRUE(contact_outputs_of(end.world, view) == contact_outputs_of(alone.world(), alone.forces()));
 }
 
 }  // namespace
