@@ -413,7 +413,7 @@ void check_pair_rates(const Normal& normal, const Tangential& tangential, const 
     ContactGeometry g = pair_geometry<double>(ri, rj, mi, mj, a.x - b.x, a.v, b.v, a.w, b.w);
     g.dt = dt;
     ContactHistory h{xi0, {0, 0}};
-    return evaluate(normal, tangential, g, h);
+    return evaluate(normal, tangential, NoRolling{}, g, h);
   };
   const Body a = i.at(0), b = j.at(0);
   DualContactGeometry g = pair_geometry<Dual>(ri, rj, mi, mj, DualVec3(a.x - b.x, a.v - b.v), DualVec3(a.v, a.a),
@@ -464,7 +464,7 @@ TEST(BlockHermiteRates, WallContact) {
     ContactGeometry g = wall_geometry<double>(r, m, n, dot(a.x - t * wall_v, n), a.v - wall_v, a.w);
     g.dt = dt;
     ContactHistory h{{0, 1e-9, 0}, {0, 0}};
-    return evaluate(normal, tangential, g, h);
+    return evaluate(normal, tangential, NoRolling{}, g, h);
   };
   DualContactGeometry g = wall_geometry<Dual>(r, m, n, Dual(dot(b.x, n), dot(b.v - wall_v, n)),
                                               DualVec3(b.v - wall_v, b.a), DualVec3(b.w, b.alpha));

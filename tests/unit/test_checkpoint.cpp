@@ -114,7 +114,7 @@ Checkpoint sample_checkpoint() {
   }
   c.wall_points = {{0, 0, 0}, {0, 0, 0.026 - 1e-5 / 3}};
   c.wall_velocities = {{}, {0, 0, -0.1}};
-  Contact a{0, 2, true, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}}};
+  Contact a{0, 2, true, {{1e-7, -2e-7, 3e-7}, {0.25, -0.5}, {2e-9, 0, -1e-9}}};
   Contact b{1, 0, true, {{-4e-8, 0, 5e-8}, {0.125, 0}}};
   c.pair_contacts = {a};
   c.wall_contacts = {b};
@@ -133,6 +133,7 @@ TEST(CheckpointFormat, RoundTripsEveryFieldBitForBit) {
   EXPECT_EQ(d.step, c.step);
   EXPECT_EQ(d.output.pvd, c.output.pvd);
   EXPECT_EQ(d.particles.torque[1], c.particles.torque[1]);
+  EXPECT_EQ(d.pair_contacts[0].history.rolling, c.pair_contacts[0].history.rolling);
   EXPECT_EQ(d.pair_contacts[0].history.normal[1], -0.5);
   EXPECT_TRUE(d.pair_contacts[0].touching);
   EXPECT_EQ(d.wall_points[1], c.wall_points[1]);
@@ -280,10 +281,10 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
 // An older version's files are refused, saying that an older tsubu wrote them (version 2
 // stored a pair's spring as seen from its smaller index: the same bytes with another meaning;
 // version 3 lacks the block steps' counts of steps by rule; version 4 has a touching flag
-// per contact).
+// per contact; version 5 lacks the rolling spring).
 TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
-  ASSERT_EQ(kCheckpointVersion, 5u);
-  for (char version : {2, 3, 4}) {
+  ASSERT_EQ(kCheckpointVersion, 6u);
+  for (char version : {2, 3, 4, 5}) {
     std::string old = encode_checkpoint(sample_checkpoint());
     old[8] = version;
     try {
@@ -291,7 +292,7 @@ TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
       ADD_FAILURE() << "accepted a version " << int(version) << " checkpoint";
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version) +
-                                           ", this tsubu reads version 5 (an older tsubu wrote it"),
+                                           ", this tsubu reads version 6 (an older tsubu wrote it"),
                 std::string::npos)
           << e.what();
     }
@@ -372,6 +373,17 @@ TEST(Resume, AfterSigkillTheRunEndsBitIdentical_VelocityVerlet) {
 TEST(Resume, AfterSigkillTheRunEndsBitIdentical_SymplecticEulerModelP) {
   TempDir dir;
   expect_sigkill_resume_identical(dir.path(), kScenarios / "checkpoint_model_p.toml", {}, 600);
+}
+
+// Rolling resistance, model EPSD (its spring torque is a history slot of every contact):
+// the springs survive the kill as the tangential ones do.
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_RollingResistance) {
+  TempDir dir;
+  expect_sigkill_resume_identical(dir.path(), kScenarios / "valid_small.toml",
+                                  {"--set", "simulation.duration=0.12", "--set", "output.checkpoint_every_steps=1000", "--set",
+                                   "contact.default.rolling=\"epsd\"", "--set", "contact.default.rolling_friction=0.1", "--set",
+                                   "contact.default.rolling_damping=0.3"},
+                                  300);
 }
 
 // A moving wall (the piston of the Hooke/Hysteresis demonstration, loading the bed): its

@@ -122,7 +122,7 @@ Collision head_on(const HookeDashpot& law, double m_eff, double r_eff, double u,
   do {
     delta += w * dt;
     g.delta = delta, g.v_n = -w;
-    const double f = evaluate(law, NoFriction{}, g, h).total.x;
+    const double f = evaluate(law, NoFriction{}, NoRolling{}, g, h).total.x;
     c.peak_force = std::max(c.peak_force, f);
     w -= f / m_eff * dt;
     c.duration += dt;

@@ -51,6 +51,21 @@ TEST(Threads, OneAndTwoThreadsGiveIdenticalBits) {
   EXPECT_TRUE(same_bits(two.particles.position, again.particles.position));
 }
 
+// Rolling resistance (model EPSD, a history slot and a torque per contact, gathered with the
+// contacts' other torques in the same order): 1 and 2 threads give the same bits, and the
+// rolling torque changes the run.
+TEST(Threads, RollingResistanceGivesIdenticalBitsForOneAndTwoThreads) {
+  const std::vector<std::string> rolling = {"search.sort_every=50", "contact.default.rolling=\"epsd\"",
+                                            "contact.default.rolling_friction=0.1", "contact.default.rolling_damping=0.3"};
+  const World one = run("lattice_threads.toml", 1, rolling);
+  const World two = run("lattice_threads.toml", 2, rolling);
+  EXPECT_TRUE(same_bits(one.particles.position, two.particles.position));
+  EXPECT_TRUE(same_bits(one.particles.velocity, two.particles.velocity));
+  EXPECT_TRUE(same_bits(one.particles.omega, two.particles.omega));
+  const World plain = run("lattice_threads.toml", 1, {"search.sort_every=50"});
+  EXPECT_FALSE(same_bits(one.particles.omega, plain.particles.omega)) << "the rolling torque took no part";
+}
+
 // Hindered settling (docs/engine.md): each grain's ball sums its neighbours in index order,
 // so threads and the skin (which changes what the crowd list holds) leave the bits alone.
 TEST(Threads, HinderedSettlingGivesIdenticalBitsForThreadsAndSkins) {

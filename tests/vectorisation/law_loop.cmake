@@ -8,7 +8,8 @@
 #   cmake -DSOURCE_DIR=<repository> -DCOMPILER=<g++> "-DFLAGS=<flags>" -P tests/vectorisation/law_loop.cmake
 cmake_minimum_required(VERSION 3.25)
 
-# normal law, tangential law, number type (double: fixed steps; Dual: block steps' rates).
+# normal law, tangential law, number type (double: fixed steps; Dual: block steps' rates),
+# and the rolling law where it is not NoRolling.
 set(laws
   LinearDashpot,NoFriction,double      LinearDashpot,MindlinSlip,double
   HertzTsuji,NoFriction,double         HertzTsuji,MindlinSlip,double
@@ -16,7 +17,9 @@ set(laws
   EnergyConserving,NoFriction,double   EnergyConserving,MindlinSlip,double
   EnergyConserving2005,NoFriction,double EnergyConserving2005,MindlinSlip,double
   LinearDashpot,MindlinSlip,Dual       HertzTsuji,MindlinSlip,Dual
-  HertzSediment,NoFriction,Dual        HertzSediment,MindlinSlip,Dual)
+  HertzSediment,NoFriction,Dual        HertzSediment,MindlinSlip,Dual
+  HertzTsuji,MindlinSlip,double,ConstantDirectionalTorque HertzTsuji,MindlinSlip,double,ElasticPlasticRolling
+  LinearDashpot,MindlinSlip,double,ElasticPlasticRolling)
 
 separate_arguments(flags UNIX_COMMAND "${FLAGS}")
 set(failures "")
@@ -25,14 +28,19 @@ foreach(law IN LISTS laws)
   list(GET parts 0 normal)
   list(GET parts 1 tangential)
   list(GET parts 2 number)
+  set(rolling NoRolling)
+  list(LENGTH parts n_parts)
+  if(n_parts GREATER 3)
+    list(GET parts 3 rolling)
+  endif()
   execute_process(
     COMMAND ${COMPILER} ${flags} -I${SOURCE_DIR}/src -DPROBE_NORMAL=${normal} -DPROBE_TANGENTIAL=${tangential}
-            -DPROBE_NUMBER=${number} -fopt-info-vec-optimized -c ${SOURCE_DIR}/tests/vectorisation/law_loop_probe.cpp -o /dev/null
+            -DPROBE_ROLLING=${rolling} -DPROBE_NUMBER=${number} -fopt-info-vec-optimized -c ${SOURCE_DIR}/tests/vectorisation/law_loop_probe.cpp -o /dev/null
     RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE out)
   if(NOT status EQUAL 0)
-    list(APPEND failures "${normal} + ${tangential} on ${number}: the probe does not compile:\n${out}")
+    list(APPEND failures "${normal} + ${tangential} + ${rolling} on ${number}: the probe does not compile:\n${out}")
   elseif(NOT out MATCHES "loop vectorized")
-    list(APPEND failures "${normal} + ${tangential} on ${number}: the law loop is not vectorised (see -fopt-info-vec-missed)")
+    list(APPEND failures "${normal} + ${tangential} + ${rolling} on ${number}: the law loop is not vectorised (see -fopt-info-vec-missed)")
   endif()
 endforeach()
 if(failures)

@@ -21,7 +21,7 @@ namespace tsubu {
 // catch additions that forget it.
 static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
               "Particles changed: write the new array in encode_checkpoint/decode_checkpoint");
-static_assert(sizeof(ContactHistory) == 5 * sizeof(double),
+static_assert(sizeof(ContactHistory) == 8 * sizeof(double),
               "ContactHistory changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::pvd) + 2 * sizeof(std::uint64_t),
               "OutputState changed: write the new field in encode_checkpoint/decode_checkpoint");
@@ -100,6 +100,7 @@ class Writer {
       pod(c.j);
       pod(c.history.xi);
       pod(c.history.normal);
+      pod(c.history.rolling);
     }
   }
   void flush() {
@@ -155,13 +156,14 @@ class Reader {
     pos_ += n * sizeof(T);
   }
   void contacts(std::vector<Contact>& list) {
-    list.resize(count(2 * 4 + 5 * 8));
+    list.resize(count(2 * 4 + 8 * 8));
     for (Contact& c : list) {
       c.i = pod<std::uint32_t>();
       c.j = pod<std::uint32_t>();
       c.touching = true;
       c.history.xi = pod<Vec3>();
       for (double& h : c.history.normal) h = pod<double>();
+      c.history.rolling = pod<Vec3>();
     }
   }
   bool at_end() const { return pos_ == bytes_.size(); }

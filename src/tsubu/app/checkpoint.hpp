@@ -78,7 +78,7 @@ class CheckpointError : public std::runtime_error {
 // (BlockStepStats::set_by_own, set_by_cluster); 5: particles in the order of their ids and
 // only the touching contacts (no touching flag), so that the bytes do not depend on the
 // particles' numbering or on when the lists were built.
-inline constexpr std::uint32_t kCheckpointVersion = 5;
+inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload. The particles of c may be in any order

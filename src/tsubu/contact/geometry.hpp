@@ -1,5 +1,7 @@
 // What a contact model sees of one contact (docs/engine.md, "Notation").
 #pragma once
+#include <cmath>
+
 #include "tsubu/core/dual.hpp"
 #include "tsubu/world/contact_list.hpp"
 
@@ -19,6 +21,8 @@ struct BasicContactGeometry {
   double d_mean = 0;  // (d_i + d_j)/2 (wall: d_i), m
   double d_small = 0; // min(d_i, d_j) (wall: d_i), m
   double dt = 0;      // time since the contact was last evaluated (the step), s
+  Vector<T> w_roll;   // relative rolling velocity: omega_i - omega_j (wall: omega_i) in the contact plane, rad/s
+  double rolling_inertia = 0;  // I_r = 1/(1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2)) (wall: I_i + m_i R_i^2), kg m^2
 };
 using ContactGeometry = BasicContactGeometry<double>;
 using DualContactGeometry = BasicContactGeometry<Dual>;
@@ -40,6 +44,17 @@ struct BasicNormalForce {
   double gap_shift = 0;
 };
 using NormalForce = BasicNormalForce<double>;
+
+// Turns a history vector of the contact plane into the plane of normal n, keeping its
+// length (a zero vector stays zero). Written with selects, not branches, so that the force
+// loop vectorises.
+[[gnu::always_inline]] inline void turn_into_plane(Vec3& v, const Vec3& n) {
+  const double len2 = norm2(v);
+  const Vec3 projected = v - dot(v, n) * n;
+  const double p2 = norm2(projected);
+  const double keep_length = p2 > 0 ? std::sqrt(len2 / p2) : 0.0;
+  v = projected * keep_length;
+}
 
 template <class Normal>
 constexpr bool corrects_position_v = requires { Normal::corrects_position; };

@@ -16,18 +16,26 @@ template <class... Laws>
 constexpr bool well_formed_tangential_laws(std::variant<Laws...>*) { return (well_formed_tangential_law<Laws>() && ...); }
 static_assert(well_formed_normal_laws(static_cast<NormalModel*>(nullptr)));
 static_assert(well_formed_tangential_laws(static_cast<TangentialModel*>(nullptr)));
+template <class... Laws>
+constexpr bool well_formed_rolling_laws(std::variant<Laws...>*) { return (well_formed_rolling_law<Laws>() && ...); }
+static_assert(well_formed_rolling_laws(static_cast<RollingModel*>(nullptr)));
 
+// A key may be shared by the laws of one registry (the rolling laws' rolling_friction), which
+// never take part in one pair together.
 constexpr bool keys_apart() {
-  for (const LawTraits& n : kNormalLaws)
-    for (const LawKey& k : n.keys) {
-      for (std::string_view generic : {"normal", "tangential", "restitution", "friction", "materials"})
-        if (k.name == generic) return false;
-      for (const LawTraits& t : kTangentialLaws)
-        if (t.key(k.name)) return false;
-    }
+  const std::span<const LawTraits> registries[] = {kNormalLaws, kTangentialLaws, kRollingLaws};
+  for (std::size_t r = 0; r < std::size(registries); ++r)
+    for (const LawTraits& law : registries[r])
+      for (const LawKey& k : law.keys) {
+        for (std::string_view generic : {"normal", "tangential", "rolling", "restitution", "friction", "materials"})
+          if (k.name == generic) return false;
+        for (std::size_t other = r + 1; other < std::size(registries); ++other)
+          for (const LawTraits& t : registries[other])
+            if (t.key(k.name)) return false;
+      }
   return true;
 }
-static_assert(keys_apart(), "a key name belongs to a normal and a tangential law, or is a generic key");
+static_assert(keys_apart(), "a key name belongs to laws of two registries (normal, tangential, rolling), or is a generic key");
 
 }  // namespace
 
@@ -64,13 +72,15 @@ std::string_view when_not_finite(const NormalModel& model) {
 PairLaw make_pair_law(const ContactSpec& spec, const Material& a, const Material& b) {
   const LawTraits* normal = find_law(kNormalLaws, spec.normal);
   const LawTraits* tangential = find_law(kTangentialLaws, spec.tangential);
-  if (normal && tangential)
+  const LawTraits* rolling = find_law(kRollingLaws, spec.rolling);
+  if (normal && tangential && rolling)
     for (const auto& entry : spec.values)
-      if (!normal->key(entry.first) && !tangential->key(entry.first))
+      if (!normal->key(entry.first) && !tangential->key(entry.first) && !rolling->key(entry.first))
         throw std::invalid_argument("the key " + entry.first + " is not one of normal = \"" + spec.normal +
-                                    "\" or tangential = \"" + spec.tangential + "\"");
+                                    "\", tangential = \"" + spec.tangential + "\" or rolling = \"" + spec.rolling + "\"");
   const MaterialPair pair{a, b, spec.restitution, spec.friction};
-  PairLaw law{build_law<NormalModel>(spec.normal, pair, spec.values), NoFriction{}};
+  PairLaw law{build_law<NormalModel>(spec.normal, pair, spec.values), NoFriction{},
+              build_law<RollingModel>(spec.rolling, pair, spec.values)};
   const NormalSide side = std::visit([&](const auto& n) { return normal_side(n, pair.poisson()); }, law.normal);
   law.tangential = build_law<TangentialModel>(spec.tangential, pair, spec.values, side);
   return law;
@@ -82,10 +92,19 @@ bool LawTable::corrects_positions() const {
   return false;
 }
 
-std::string LawTable::without_rates() const {
+bool LawTable::resists_rolling() const {
   for (const auto& l : laws)
+    if (!std::holds_alternative<NoRolling>(l.rolling)) return true;
+  return false;
+}
+
+std::string LawTable::without_rates() const {
+  for (const auto& l : laws) {
     if (!std::visit([](const auto& m) { return has_rates_v<std::decay_t<decltype(m)>>; }, l.normal))
-      return std::string(label_of(l.normal));
+      return "normal model " + std::string(label_of(l.normal));
+    if (!std::holds_alternative<NoRolling>(l.rolling))
+      return "rolling model " + std::string(std::visit([](const auto& m) { return traits_of<std::decay_t<decltype(m)>>().label; }, l.rolling));
+  }
   return "";
 }
 

@@ -1,8 +1,8 @@
-// The contact law of one material pair: a normal and a tangential model. The force loop
-// dispatches on the pair of variant alternatives once per loop when every pair uses the
-// same models (the common case), so the per-contact code is a direct, inlined call.
+// The contact law of one material pair: a normal, a tangential and a rolling model. The
+// force loop dispatches on the variants' alternatives once per loop when every pair uses
+// the same models (the common case), so the per-contact code is a direct, inlined call.
 //
-// The two variants are the registry of the laws: the loader, make_pair_law and the time
+// The three variants are the registry of the laws: the loader, make_pair_law and the time
 // scales find a law by its traits (contact/law_traits.hpp) through them, so that a law is
 // registered by adding it here (docs/contact-laws.md).
 #pragma once
@@ -16,6 +16,7 @@
 #include "tsubu/contact/hooke_hysteresis.hpp"
 #include "tsubu/contact/law_traits.hpp"
 #include "tsubu/contact/normal_models.hpp"
+#include "tsubu/contact/rolling_models.hpp"
 #include "tsubu/contact/tangential_models.hpp"
 #include "tsubu/world/domain.hpp"
 
@@ -24,10 +25,12 @@ namespace tsubu {
 using NormalModel =
     std::variant<LinearDashpot, HertzTsuji, HertzSediment, HookeHysteresis, EnergyConserving, EnergyConserving2005>;
 using TangentialModel = std::variant<NoFriction, LinearCoulomb, MindlinSlip>;
+using RollingModel = std::variant<NoRolling, ConstantDirectionalTorque, ElasticPlasticRolling>;
 
 // Their traits, in the variants' order (the order the scenario's messages list them in).
 inline constexpr auto kNormalLaws = traits_of_all<NormalModel>();
 inline constexpr auto kTangentialLaws = traits_of_all<TangentialModel>();
+inline constexpr auto kRollingLaws = traits_of_all<RollingModel>();
 
 // Models whose force is a smooth function of the kinematics, written on the number type:
 // they give exact rates (Hermite integration). Models P, F and HH are defined on fixed steps.
@@ -39,7 +42,8 @@ constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry
 // keep on a swap, a tangential law's the spring xi, which is negated (the transforms
 // world/contact_list.hpp lists at Contact, and no other: with them a pair's force does not
 // depend on which of its particles the laws see it from); a law runs with block steps
-// exactly when its force has rates.
+// exactly when its force has rates. A rolling law's one slot is ContactHistory::rolling,
+// negated on a swap; the block steps carry no rolling torque, so only "none" runs with them.
 template <class Law>
 constexpr bool well_formed_normal_law() {
   constexpr LawTraits t = traits_of<Law>();
@@ -60,30 +64,43 @@ constexpr bool well_formed_tangential_law() {
   return true;
 }
 
+template <class Law>
+constexpr bool well_formed_rolling_law() {
+  static_assert(traits_of<Law>().history.size() <= 1, "a rolling law's one history slot is ContactHistory::rolling");
+  static_assert(traits_of<Law>().history.empty() || traits_of<Law>().history[0].swap == Swap::negate,
+                "the rolling spring is negated on a swap");
+  static_assert(traits_of<Law>().allows("block_hermite") == std::is_same_v<Law, NoRolling>,
+                "the block steps carry no rolling torque: declare integrators = {kFixedSteps}");
+  return true;
+}
+
 struct PairLaw {
   NormalModel normal;
   TangentialModel tangential;
+  RollingModel rolling;
 };
 
-// Force on particle i (normal + tangential) and the tangential part alone (for torques).
+// Force on particle i (normal + tangential), the tangential part alone (for torques) and
+// the rolling torque on i (j takes it negated).
 struct ContactForce {
   Vec3 total;
   Vec3 tangential;
   double energy = 0;
   double gap_shift = 0;  // m, see NormalForce
+  Vec3 rolling;
 };
 
-template <class Normal, class Tangential>
-[[gnu::always_inline]] inline ContactForce evaluate(const Normal& normal, const Tangential& tangential,
-                             const ContactGeometry& g, ContactHistory& h) {
+template <class Normal, class Tangential, class Rolling>
+[[gnu::always_inline]] inline ContactForce evaluate(const Normal& normal, const Tangential& tangential, const Rolling& rolling,
+                                                    const ContactGeometry& g, ContactHistory& h) {
   const NormalForce fn = normal.force(g, h);
   const Vec3 ft = tangential.force(g, fn, h.xi);
-  return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift};
+  return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift, rolling.torque(g, fn, h.rolling)};
 }
 
 // The same law run on Duals: the force on particle i and its tangential part, each with its
 // time derivative along the kinematics that `g` carries. The history is advanced as by
-// evaluate().
+// evaluate() (no rolling torque: block steps run the rolling law "none" only).
 struct ContactForceRate {
   DualVec3 total, tangential;
   double energy = 0;
@@ -139,9 +156,10 @@ std::string_view when_not_finite(const NormalModel& model);
 struct ContactSpec {
   std::string normal = "hertz_tsuji";  // a name of kNormalLaws
   std::string tangential = "mindlin";  // a name of kTangentialLaws
+  std::string rolling = "none";        // a name of kRollingLaws
   double restitution = 1.0;            // e in (0, 1]
   double friction = 0.0;               // mu
-  LawValues values;                    // the two laws' keys: "stiffness", "alpha", ...
+  LawValues values;                    // the laws' keys: "stiffness", "alpha", ...
 };
 
 // The law of `Variant` named `name`, built from its keys' values and the pair; `side` is what
@@ -168,8 +186,10 @@ struct LawTable {
   const PairLaw& at(int a, int b) const { return laws[static_cast<std::size_t>(a * n_materials + b)]; }
   // True when some law's normal model corrects positions (models P, F).
   bool corrects_positions() const;
-  // The label of a normal model in the table that has no rates (block steps cannot run it),
-  // or "" when every law has them.
+  // True when some law has a rolling model (not "none").
+  bool resists_rolling() const;
+  // A normal or rolling model in the table that has no rates (block steps cannot run it), as
+  // "normal model <label>", or "" when every law has them.
   std::string without_rates() const;
 };
 

@@ -46,6 +46,8 @@ BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj
   const Vector<T> v_rel = contact_point_velocity(g.n, arm_i, arm_j, vi - vj, wi, wj);
   g.v_n = dot(v_rel, g.n);
   g.v_t = v_rel - g.v_n * g.n;
+  const Vector<T> w_rel = wi - wj;
+  g.w_roll = w_rel - dot(w_rel, g.n) * g.n;  // seen from j: negated, to the bit
   g.r_eff = ri * rj / (ri + rj);
   g.m_eff = mi * mj / (mi + mj);
   g.d_mean = ri + rj;
@@ -65,6 +67,7 @@ template <class T>
   const Vector<T> v_rel = v_rel_centre + cross(w, -arm * g.n);
   g.v_n = dot(v_rel, g.n);
   g.v_t = v_rel - g.v_n * g.n;
+  g.w_roll = w - dot(w, g.n) * g.n;
   g.r_eff = r;
   g.m_eff = m;
   g.d_mean = 2.0 * r;

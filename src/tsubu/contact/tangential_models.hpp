@@ -15,11 +15,8 @@ namespace tsubu {
 // the tangential displacement of this step. Written with selects, not branches, so that the
 // force loop vectorises (a zero spring stays zero).
 [[gnu::always_inline]] inline void advance_spring(Vec3& xi, const ContactGeometry& g) {
-  const double len2 = norm2(xi);
-  const Vec3 projected = xi - dot(xi, g.n) * g.n;
-  const double p2 = norm2(projected);
-  const double keep_length = p2 > 0 ? std::sqrt(len2 / p2) : 0.0;
-  xi = projected * keep_length + g.v_t * g.dt;
+  turn_into_plane(xi, g.n);
+  xi += g.v_t * g.dt;
 }
 
 // The same step on a spring with its rate: the value moves as above; the rate is that of
@@ -28,7 +25,7 @@ namespace tsubu {
 template <void (*Advance)(Vec3&, const ContactGeometry&)>
 inline void advance_with_rate(DualVec3& xi, const DualContactGeometry& g) {
   Vec3 x = value(xi);
-  const ContactGeometry plain{value(g.n), g.delta.v, g.v_n.v, value(g.v_t), g.r_eff, g.m_eff, g.d_mean, g.d_small, g.dt};
+  const ContactGeometry plain{value(g.n), g.delta.v, g.v_n.v, value(g.v_t), g.r_eff, g.m_eff, g.d_mean, g.d_small, g.dt, {}, 0};
   Advance(x, plain);
   xi = DualVec3(x, plain.v_t - dot(x, rate(g.n)) * plain.n);
 }

@@ -65,22 +65,24 @@ T with_rate(double x, double rate) {
 }
 
 // The law's models, called on the number type T: every law on double; on Dual only the laws
-// with rates (compute_active refuses a table with another).
+// with rates, and no rolling resistance (compute_active refuses a table with another).
 template <class T, class Visit>
 void visit_law(const PairLaw& law, Visit&& visit) {
   std::visit(
-      [&](const auto& normal, const auto& tangential) {
-        if constexpr (std::is_same_v<T, double> || has_rates_v<std::decay_t<decltype(normal)>>) visit(normal, tangential);
+      [&](const auto& normal, const auto& tangential, const auto& rolling) {
+        if constexpr (std::is_same_v<T, double> || (has_rates_v<std::decay_t<decltype(normal)>> &&
+                                                    std::is_same_v<std::decay_t<decltype(rolling)>, NoRolling>))
+          visit(normal, tangential, rolling);
       },
-      law.normal, law.tangential);
+      law.normal, law.tangential, law.rolling);
 }
 
 // The law on the number type: the force (evaluate), or on Dual the force with its rates
 // (evaluate_with_rates). The history advances alike.
-template <class Normal, class Tangential, class T>
-[[gnu::always_inline]] inline auto evaluate_law(const Normal& normal, const Tangential& tangential,
+template <class Normal, class Tangential, class Rolling, class T>
+[[gnu::always_inline]] inline auto evaluate_law(const Normal& normal, const Tangential& tangential, const Rolling& rolling,
                                                 const BasicContactGeometry<T>& g, ContactHistory& h) {
-  if constexpr (std::is_same_v<T, double>) return evaluate(normal, tangential, g, h);
+  if constexpr (std::is_same_v<T, double>) return evaluate(normal, tangential, rolling, g, h);
   else return evaluate_with_rates(normal, tangential, g, h);
 }
 
@@ -121,51 +123,61 @@ struct DualSlot {
 template <class T>
 using Slot = std::conditional_t<std::is_same_v<T, double>, double, DualSlot>;
 
+// A particle's moment of inertia about a point of its surface, I + m R^2: the rolling
+// inertia of a contact (BasicContactGeometry::rolling_inertia) from its two bodies'.
+inline double rolling_inertia(const Particles& p, std::size_t i) { return p.inertia[i] + p.mass[i] * p.radius[i] * p.radius[i]; }
+
 // A block of touching pairs held as one array per scalar ("lanes"), so that the loop over
 // the block's laws is a vector loop: each iteration reads and writes its own lane only.
 template <std::size_t N, class T>
 struct Lanes {
   // Fixed steps advance every contact by the one dt, block steps each by its own.
   static constexpr bool kOneStep = std::is_same_v<T, double>;
-  Slot<T> n[3][N], delta[N], v_n[N], v_t[3][N];                  // BasicContactGeometry
-  double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[kOneStep ? 1 : N];
-  double xi[3][N], normal[2][N];                                 // ContactHistory
+  Slot<T> n[3][N], delta[N], v_n[N], v_t[3][N], w_roll[3][N];   // BasicContactGeometry
+  double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[kOneStep ? 1 : N], rolling_inertia[N];
+  double xi[3][N], normal[2][N], rolling[3][N];                  // ContactHistory
   Slot<T> total[3][N], tangential[3][N];                         // the law's force on i
-  double energy[N], gap_shift[N];                                // ContactForce
+  double energy[N], gap_shift[N], rolling_torque[3][N];          // ContactForce
   double stiffness[N], damping[N], tangential_damping[N];        // ContactForceRate
 
   static Vector<T> get(const Slot<T> (&a)[3][N], std::size_t b) { return {T(a[0][b]), T(a[1][b]), T(a[2][b])}; }
   static void put(Slot<T> (&a)[3][N], std::size_t b, const Vector<T>& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
+  // The same for the arrays of doubles whatever T (history, rolling torque).
+  static Vec3 get_plain(const double (&a)[3][N], std::size_t b) { return {a[0][b], a[1][b], a[2][b]}; }
+  static void put_plain(double (&a)[3][N], std::size_t b, const Vec3& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
 
   void set_geometry(std::size_t b, const BasicContactGeometry<T>& g, double step) {
-    put(n, b, g.n), put(v_t, b, g.v_t);
+    put(n, b, g.n), put(v_t, b, g.v_t), put(w_roll, b, g.w_roll);
     delta[b] = g.delta, v_n[b] = g.v_n, r_eff[b] = g.r_eff, m_eff[b] = g.m_eff, d_mean[b] = g.d_mean, d_small[b] = g.d_small;
-    dt[kOneStep ? 0 : b] = step;
+    dt[kOneStep ? 0 : b] = step, rolling_inertia[b] = g.rolling_inertia;
   }
   BasicContactGeometry<T> geometry(std::size_t b) const {
-    return {get(n, b), T(delta[b]), T(v_n[b]), get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt[kOneStep ? 0 : b]};
+    return {get(n, b), T(delta[b]), T(v_n[b]), get(v_t, b), r_eff[b], m_eff[b], d_mean[b], d_small[b], dt[kOneStep ? 0 : b],
+            get(w_roll, b), rolling_inertia[b]};
   }
   void set_history(std::size_t b, const ContactHistory& h) {
-    xi[0][b] = h.xi.x, xi[1][b] = h.xi.y, xi[2][b] = h.xi.z, normal[0][b] = h.normal[0], normal[1][b] = h.normal[1];
+    put_plain(xi, b, h.xi), normal[0][b] = h.normal[0], normal[1][b] = h.normal[1], put_plain(rolling, b, h.rolling);
   }
-  ContactHistory history(std::size_t b) const { return {{xi[0][b], xi[1][b], xi[2][b]}, {normal[0][b], normal[1][b]}}; }
+  ContactHistory history(std::size_t b) const { return {get_plain(xi, b), {normal[0][b], normal[1][b]}, get_plain(rolling, b)}; }
   void set_force(std::size_t b, const ContactForce& f) {
     put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy, gap_shift[b] = f.gap_shift;
+    put_plain(rolling_torque, b, f.rolling);
   }
   void set_force(std::size_t b, const ContactForceRate& f) {
     put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy;
     stiffness[b] = f.stiffness, damping[b] = f.damping, tangential_damping[b] = f.tangential_damping;
   }
   // The law of every lane: a vector loop (the LawLoopVectorises test checks that it is one).
-  template <class Normal, class Tangential>
-  void evaluate_all(std::size_t m, const Normal& normal_model, const Tangential& tangential_model) {
+  template <class Normal, class Tangential, class Rolling>
+  void evaluate_all(std::size_t m, const Normal& normal_model, const Tangential& tangential_model, const Rolling& rolling_model) {
 #pragma omp simd
-    for (std::size_t b = 0; b < m; ++b) evaluate_one(b, normal_model, tangential_model);
+    for (std::size_t b = 0; b < m; ++b) evaluate_one(b, normal_model, tangential_model, rolling_model);
   }
-  template <class Normal, class Tangential>
-  [[gnu::always_inline]] void evaluate_one(std::size_t b, const Normal& normal_model, const Tangential& tangential_model) {
+  template <class Normal, class Tangential, class Rolling>
+  [[gnu::always_inline]] void evaluate_one(std::size_t b, const Normal& normal_model, const Tangential& tangential_model,
+                                           const Rolling& rolling_model) {
     ContactHistory h = history(b);
-    set_force(b, evaluate_law(normal_model, tangential_model, geometry(b), h));
+    set_force(b, evaluate_law(normal_model, tangential_model, rolling_model, geometry(b), h));
     set_history(b, h);
   }
 };
@@ -219,7 +231,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
         const double released = was_touching[m] ? release_age(gap, opening) : 0;
         const double m_eff = p.mass[c.i] * p.mass[c.j] / (p.mass[c.i] + p.mass[c.j]);
         const double r_eff = p.radius[c.i] * p.radius[c.j] / reach;
-        visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
+        visit_law<T>(law_of(c), [&](const auto& normal, const auto&, const auto&) {
           pair_rates_[k] = {{}, {}, 0,
                             contact_step(normal, *rules, m_eff, r_eff, false, -opening, 0, gap,
                                          -dot(rate(a.v) - rate(b.v), n)),
@@ -230,7 +242,9 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
       const double keep = c.touching;
       c.history.xi *= keep;
       c.history.normal[0] *= keep, c.history.normal[1] *= keep;
+      c.history.rolling *= keep;
       pair_results_.set(k, {}, {}, 0, 0);
+      if (rolls_) pair_results_.rolling_i[k] = {};
     }
     touching[m] = static_cast<std::uint32_t>(k);
     separation[m] = d;
@@ -245,15 +259,20 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const Contact& c = contacts[touching[b]];
     const auto mi = state.at(c.i), mj = state.at(c.j);
     const auto& d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
-    lanes.set_geometry(b, pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w),
-                       state.step(c.i, c.j));
+    BasicContactGeometry<T> g =
+        pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w);
+    g.rolling_inertia = 1 / (1 / rolling_inertia(p, c.i) + 1 / rolling_inertia(p, c.j));
+    lanes.set_geometry(b, g, state.step(c.i, c.j));
     lanes.set_history(b, c.history);
   }
   if (shared) {
-    visit_law<T>(*shared, [&](const auto& normal, const auto& tangential) { lanes.evaluate_all(m, normal, tangential); });
+    visit_law<T>(*shared, [&](const auto& normal, const auto& tangential, const auto& rolling) {
+      lanes.evaluate_all(m, normal, tangential, rolling);
+    });
   } else {
     for (std::size_t b = 0; b < m; ++b)
-      visit_law<T>(law_of(contacts[touching[b]]), [&](const auto& nm, const auto& tm) { lanes.evaluate_one(b, nm, tm); });
+      visit_law<T>(law_of(contacts[touching[b]]),
+                   [&](const auto& nm, const auto& tm, const auto& rm) { lanes.evaluate_one(b, nm, tm, rm); });
   }
   // The results (and the histories) back to their contacts.
   for (std::size_t b = 0; b < m; ++b) {
@@ -264,9 +283,10 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const Vector<T> n_x_ft = cross(n, lanes.get(lanes.tangential, b));
     const T delta = lanes.delta[b];
     pair_results_.set(k, value(total), value(n_x_ft), value(delta), lanes.energy[b]);
+    if (rolls_) pair_results_.rolling_i[k] = lanes.get_plain(lanes.rolling_torque, b);
     if constexpr (kRates) {
       const double v_n = T(lanes.v_n[b]).v;
-      visit_law<T>(law_of(c), [&](const auto& normal, const auto&) {
+      visit_law<T>(law_of(c), [&](const auto& normal, const auto&, const auto&) {
         pair_rates_[k] = {rate(total), rate(n_x_ft), delta.d,
                           contact_step(normal, *rules, lanes.m_eff[b], lanes.r_eff[b], true, -v_n, lanes.stiffness[b], 0, 0),
                           value(n), lanes.damping[b], lanes.tangential_damping[b], was_touching[b] ? 0 : onset_age(delta)};
@@ -283,14 +303,14 @@ template <class State>
 void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, const ContactStepRules* rules) {
   const Contact& c = world.contacts.walls()[k];
   visit_law<typename State::Number>(model_->laws.at(world.particles.material[c.i], world.walls[c.j].material),
-                                    [&](const auto& normal, const auto& tangential) {
-                                      evaluate_wall(world, state, k, normal, tangential, rules);
+                                    [&](const auto& normal, const auto& tangential, const auto& rolling) {
+                                      evaluate_wall(world, state, k, normal, tangential, rolling, rules);
                                     });
 }
 
-template <class State, class Normal, class Tangential>
+template <class State, class Normal, class Tangential, class Rolling>
 void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, const Normal& normal,
-                               const Tangential& tangential, const ContactStepRules* rules) {
+                               const Tangential& tangential, const Rolling& rolling, const ContactStepRules* rules) {
   using T = typename State::Number;
   constexpr bool kRates = std::is_same_v<T, Dual>;
   const Particles& p = world.particles;
@@ -318,20 +338,24 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
       wall_results_.shift_i[k] = {};
     }
     wall_results_.set(k, {}, {}, 0, 0);
+    if (rolls_) wall_results_.rolling_i[k] = {};
     return;
   }
   BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], wall.normal, with_rate<T>(dist, dot(value(v_rel), wall.normal)),
                                                v_rel, a.w);
   g.dt = state.step(i);
-  const auto f = evaluate_law(normal, tangential, g, c.history);
+  g.rolling_inertia = rolling_inertia(p, i);
+  const auto f = evaluate_law(normal, tangential, rolling, g, c.history);
   const Vector<T> n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), value(g.delta), f.energy);
-  if constexpr (kRates)
+  if constexpr (kRates) {
     wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
                       contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), wall.normal, f.damping,
                       f.tangential_damping, was_touching ? 0 : onset_age(g.delta)};
-  else if (shifts_)
-    wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
+  } else {
+    if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
+    if (rolls_) wall_results_.rolling_i[k] = f.rolling;
+  }
 }
 
 }  // namespace tsubu

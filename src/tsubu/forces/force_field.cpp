@@ -12,16 +12,18 @@
 
 namespace tsubu {
 
-void ForceField::Results::resize(std::size_t n, bool shifts) {
+void ForceField::Results::resize(std::size_t n, bool shifts, bool rolls) {
   entry.resize(n);
   shift_i.resize(shifts ? n : 0);  // cleared by the evaluations, entry by entry
   shift_j.resize(shifts ? n : 0);
+  rolling_i.resize(rolls ? n : 0);
 }
 
 void ForceField::Results::follow(const std::vector<std::uint32_t>& origin) {
   ContactList::follow(entry, origin);
   ContactList::follow(shift_i, origin);
   ContactList::follow(shift_j, origin);
+  ContactList::follow(rolling_i, origin);
 }
 
 void ForceField::follow_lists(const ContactList& contacts) {
@@ -45,6 +47,7 @@ void ForceField::compute(World& world, double fluid_lead) {
   if (neighbourhood_ && neighbourhood_->update(world)) built_at_.clear();
   admit_new_particles(world.particles);
   shifts_ = model_->laws.corrects_positions();
+  rolls_ = model_->laws.resists_rolling();
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);
@@ -177,7 +180,7 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
 
 void ForceField::evaluate_pairs(World& world) {
   const auto& contacts = world.contacts.pairs();
-  pair_results_.resize(contacts.size(), shifts_);
+  pair_results_.resize(contacts.size(), shifts_, rolls_);
   // Blocks are fixed ranges of the list, the same for any thread count, so each contact is
   // computed by the same instructions (vector lane or scalar tail) whatever the threads.
   const std::size_t blocks = (contacts.size() + kBlock - 1) / kBlock;
@@ -194,7 +197,7 @@ void ForceField::evaluate_pairs(World& world) {
 void ForceField::evaluate_walls(World& world) {
   const Particles& p = world.particles;
   const auto& contacts = world.contacts.walls();
-  wall_results_.resize(contacts.size(), shifts_);
+  wall_results_.resize(contacts.size(), shifts_, rolls_);
   const CurrentState state{p, world.dt};
   parallel_for(contacts.size(), [&](std::size_t k) { evaluate_wall(world, state, k, nullptr); });
 }

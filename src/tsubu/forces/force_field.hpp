@@ -205,12 +205,13 @@ class ForceField {
   // delta > 0 marks a touching contact. The torques and overlap ratios are not stored: each
   // particle makes them from n x F_t, the overlap and its own radius (64 bytes a contact,
   // not 104).
-  // shift_i/j, the position corrections of models P and F, exist only when a law uses them.
+  // shift_i/j, the position corrections of models P and F, exist only when a law uses them;
+  // rolling_i, the rolling torque on i (j takes it negated), only when a law resists rolling.
   struct Results {
     using Entry = ContactResult;  // together: the gather reads a partner's contact from one place
     std::vector<Entry> entry;
-    std::vector<Vec3> shift_i, shift_j;
-    void resize(std::size_t n, bool shifts);
+    std::vector<Vec3> shift_i, shift_j, rolling_i;
+    void resize(std::size_t n, bool shifts, bool rolls);
     // Each entry follows its contact into new lists (ContactList::follow).
     void follow(const std::vector<std::uint32_t>& origin);
     void set(std::size_t k, const Vec3& f, const Vec3& n_x_f_t, double overlap, double e) { entry[k] = {f, n_x_f_t, overlap, e}; }
@@ -240,6 +241,7 @@ class ForceField {
   std::vector<Rates> pair_rates_, wall_rates_;
   std::vector<Vec3> built_at_;  // positions at the last build
   bool shifts_ = false;         // some law corrects positions
+  bool rolls_ = false;          // some law resists rolling
   // The law of every listed pair when the grains are all of one material (set at each build;
   // the pairs are then evaluated in vector lanes), else null: each pair takes its own.
   const PairLaw* pair_law_ = nullptr;
@@ -278,9 +280,9 @@ class ForceField {
   // number type.
   template <class State>
   void evaluate_wall(World& world, const State& state, std::size_t k, const ContactStepRules* rules);
-  template <class State, class Normal, class Tangential>
+  template <class State, class Normal, class Tangential, class Rolling>
   void evaluate_wall(World& world, const State& state, std::size_t k, const Normal& normal, const Tangential& tangential,
-                     const ContactStepRules* rules);
+                     const Rolling& rolling, const ContactStepRules* rules);
   // Fixed steps: every listed pair and wall.
   void evaluate_pairs(World& world);
   void evaluate_walls(World& world);

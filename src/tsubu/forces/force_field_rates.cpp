@@ -16,14 +16,14 @@ namespace tsubu {
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
   if (!without_rates_.empty())
-    throw std::invalid_argument("the normal model " + without_rates_ + " has no rates: block steps cannot evaluate it");
+    throw std::invalid_argument("the " + without_rates_ + " has no rates: block steps cannot evaluate it");
   Particles& p = world.particles;
   admit_new_particles(p);
   const ContactList& contacts = world.contacts;
   const auto& pairs = contacts.pairs();
   const auto& walls = contacts.walls();
-  pair_results_.resize(pairs.size(), false);
-  wall_results_.resize(walls.size(), false);
+  pair_results_.resize(pairs.size(), false, false);
+  wall_results_.resize(walls.size(), false, false);
   pair_rates_.resize(pairs.size());
   wall_rates_.resize(walls.size());
   // Each contact once, from its first active particle; contacts of different active

@@ -28,6 +28,7 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
     const Results::Entry& e = res.entry[k];
     g.force += sign * e.force_i;
     g.torque += res.torque(k, r);
+    if (rolls_) g.torque += sign * res.rolling_i[k];
     const bool touch = e.delta > 0;
     (reaction ? g.count : g.own) += touch;
     g.deepest = std::max(g.deepest, e.delta);

@@ -1,5 +1,6 @@
 #include "tsubu/scenario/law_keys.hpp"
 
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,7 +51,7 @@ constexpr bool names_integrators(std::span<const LawTraits> laws) {
       }
   return true;
 }
-static_assert(names_integrators(kNormalLaws) && names_integrators(kTangentialLaws),
+static_assert(names_integrators(kNormalLaws) && names_integrators(kTangentialLaws) && names_integrators(kRollingLaws),
               "a law's IntegratorRule names an integrator that integrator_name() does not give");
 
 // Refuses an integrator the law does not allow, with the reason of its first rule that
@@ -70,23 +71,35 @@ void check_integrator(Section& s, std::string_view role, const LawTraits& law, s
   }
 }
 
-// Refuses the keys of the laws that the entry did not choose: "is used only with normal = ...".
-void refuse_keys_of_other_laws(Section& s, const LawTraits& normal, const LawTraits& tangential,
-                               std::span<const LawTraits> normals, std::span<const LawTraits> tangentials) {
+// A registry of laws and the key that chooses among them ("normal", "tangential", "rolling").
+struct Registry {
+  std::string_view role;
+  std::span<const LawTraits> laws;
+};
+
+// Refuses the keys of the laws that the entry did not choose (`chosen`, one per registry):
+// "is used only with normal = ...".
+void refuse_keys_of_other_laws(Section& s, std::initializer_list<const LawTraits*> chosen,
+                               std::initializer_list<Registry> registries) {
   auto users = [&](std::string_view key) {
     std::string out;
-    for (auto [role, laws] : {std::pair{"normal", normals}, std::pair{"tangential", tangentials}}) {
+    for (const Registry& r : registries) {
       std::vector<std::string_view> names;
-      for (const LawTraits& law : laws)
+      for (const LawTraits& law : r.laws)
         if (law.key(key)) names.push_back(law.name);
-      if (!names.empty()) out += (out.empty() ? "" : " or ") + std::string(role) + " = " + listed(names, " or ");
+      if (!names.empty()) out += (out.empty() ? "" : " or ") + std::string(r.role) + " = " + listed(names, " or ");
     }
     return out;
   };
-  for (std::span<const LawTraits> laws : {normals, tangentials})
-    for (const LawTraits& law : laws)
+  auto chosen_key = [&](std::string_view key) {
+    for (const LawTraits* law : chosen)
+      if (law->key(key)) return true;
+    return false;
+  };
+  for (const Registry& r : registries)
+    for (const LawTraits& law : r.laws)
       for (const LawKey& k : law.keys)
-        if (!normal.key(k.name) && !tangential.key(k.name) && s.has(k.name)) s.fail(k.name, "is used only with " + users(k.name));
+        if (!chosen_key(k.name) && s.has(k.name)) s.fail(k.name, "is used only with " + users(k.name));
 }
 
 }  // namespace
@@ -122,15 +135,20 @@ ContactSpec read_contact_spec(Section& s, std::string_view integrator, std::span
   check_integrator(s, "normal", normal, integrator, normals);
   const LawTraits& tangential = chosen_law(s, "tangential", tangentials, normal.default_tangential);
   check_integrator(s, "tangential", tangential, integrator, tangentials);
+  const LawTraits& rolling = chosen_law(s, "rolling", kRollingLaws, c.rolling);
+  check_integrator(s, "rolling", rolling, integrator, kRollingLaws);
   c.normal = normal.name;
   c.tangential = tangential.name;
+  c.rolling = rolling.name;
   c.restitution = s.real("restitution", 1.0);
   if (!(c.restitution > 0 && c.restitution <= 1)) s.fail("restitution", "allowed range (0, 1], got " + format_number(c.restitution));
   c.friction = s.real("friction", 0.0);
   if (c.friction < 0) s.fail("friction", "must be >= 0, got " + format_number(c.friction));
   c.values = read_law_keys(s, normal, "normal");
   for (const auto& [key, value] : read_law_keys(s, tangential, "tangential")) c.values.set(key, value);
-  refuse_keys_of_other_laws(s, normal, tangential, normals, tangentials);
+  for (const auto& [key, value] : read_law_keys(s, rolling, "rolling")) c.values.set(key, value);
+  refuse_keys_of_other_laws(s, {&normal, &tangential, &rolling},
+                            {{"normal", normals}, {"tangential", tangentials}, {"rolling", kRollingLaws}});
   return c;
 }
 

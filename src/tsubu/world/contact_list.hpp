@@ -22,10 +22,12 @@
 namespace tsubu {
 
 // Per-contact memory. `xi` is the tangential spring (a vector in the tangent plane); the
-// `normal` slots belong to the normal model (each model documents what it keeps there).
+// `normal` slots belong to the normal model (each model documents what it keeps there);
+// `rolling` is the rolling model's spring torque on i (a vector in the tangent plane).
 struct ContactHistory {
   Vec3 xi;
   double normal[2] = {0, 0};
+  Vec3 rolling;
 };
 
 // Two particle indices (i < j), or a particle and a wall: what a contact search finds.
@@ -44,6 +46,7 @@ struct Pair {
 //   xi         -> -xi       (a vector in the contact plane, seen from the other side)
 //   normal[0]  -> normal[0] (model HH's largest overlap: a property of the pair)
 //   normal[1]  -> normal[1] (unused; a new normal slot must be symmetric or listed here)
+//   rolling    -> -rolling  (model EPSD's spring torque on i: j feels it negated)
 // The pair's geometry gives the same bits, negated, seen from either particle
 // (contact_point_velocity), so which particle is first changes no force; the ids only fix
 // it for good.
