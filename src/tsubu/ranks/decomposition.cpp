@@ -53,12 +53,18 @@ struct Parcel {
   }
 };
 
-void read_parcel(const std::string& bytes, Particles& particles, std::vector<ContactLink>& links) {
+// Reads a parcel's particles into `particles` and calls read_link(bytes, at) once per
+// contact, at the position of its record.
+template <class ReadLink>
+void read_parcel(const std::string& bytes, Particles& particles, ReadLink read_link) {
   std::size_t at = 0;
   unpack(bytes, at, take<std::uint64_t>(bytes, at), particles);
-  const auto n = take<std::uint64_t>(bytes, at);
-  for (std::uint64_t k = 0; k < n; ++k) links.push_back(take<ContactLink>(bytes, at));
+  for (auto n = take<std::uint64_t>(bytes, at); n > 0; --n) read_link(bytes, at);
 }
+
+// The order of the contact lists once the particles are in id order: pairs by (first id,
+// second id), then walls by (particle's id, wall). Equal keys are the same contact.
+auto link_key(const ContactLink& l) { return std::tuple(l.wall >= 0, l.a, l.wall >= 0 ? l.wall : l.b); }
 
 // The particles in id order.
 void in_id_order(Particles& p) {
@@ -70,11 +76,9 @@ void in_id_order(Particles& p) {
 // the particles p, the first `owned` of them this process's: each contact once, and only
 // those this process evaluates: a wall's with an owned particle, a pair's with at least one.
 void assign_contacts(ContactList& contacts, std::vector<ContactLink> links, const Particles& p, std::size_t owned) {
-  std::sort(links.begin(), links.end(), [](const ContactLink& x, const ContactLink& y) {
-    return x.wall != y.wall ? x.wall < y.wall : (x.a != y.a ? x.a < y.a : x.b < y.b);
-  });
+  std::sort(links.begin(), links.end(), [](const ContactLink& x, const ContactLink& y) { return link_key(x) < link_key(y); });
   links.erase(std::unique(links.begin(), links.end(),
-                          [](const ContactLink& x, const ContactLink& y) { return x.wall == y.wall && x.a == y.a && x.b == y.b; }),
+                          [](const ContactLink& x, const ContactLink& y) { return link_key(x) == link_key(y); }),
               links.end());
   std::unordered_map<std::int64_t, std::uint32_t> index;
   for (std::uint32_t i = 0; i < p.size(); ++i) index.emplace(p.id[i], i);
@@ -219,7 +223,8 @@ bool Decomposition::update(World& world) {
   const std::vector<std::string> received = comm_.exchange(out);
   Particles owned;
   std::vector<ContactLink> links;
-  for (const std::string& bytes : received) read_parcel(bytes, owned, links);
+  for (const std::string& bytes : received)
+    read_parcel(bytes, owned, [&](const std::string& b, std::size_t& at) { links.push_back(take<ContactLink>(b, at)); });
   arrange(world, std::move(owned), std::move(links));
   return true;
 }
@@ -241,20 +246,15 @@ Decomposition::Gathered Decomposition::gathered(const World& world, const ForceF
   const std::vector<std::string> parts = comm_.gather(mine.bytes());
   if (parts.empty()) return all;
   std::vector<std::pair<ContactLink, ContactResult>> records;
-  for (const std::string& bytes : parts) {
-    std::size_t at = 0;
-    unpack(bytes, at, take<std::uint64_t>(bytes, at), w.particles);
-    for (auto n = take<std::uint64_t>(bytes, at); n > 0; --n) {
-      const auto l = take<ContactLink>(bytes, at);
-      records.emplace_back(l, take<ContactResult>(bytes, at));
-    }
-  }
+  for (const std::string& bytes : parts)
+    read_parcel(bytes, w.particles, [&](const std::string& b, std::size_t& at) {
+      const auto l = take<ContactLink>(b, at);
+      records.emplace_back(l, take<ContactResult>(b, at));
+    });
   in_id_order(w.particles);
-  // In the lists' order once the particles are in id order: pairs by (first id, second id),
-  // then walls by (particle's id, wall).
-  const auto key = [](const ContactLink& l) { return std::tuple(l.wall >= 0, l.a, l.wall >= 0 ? l.wall : l.b); };
-  std::sort(records.begin(), records.end(), [&](const auto& x, const auto& y) { return key(x.first) < key(y.first); });
-  records.erase(std::unique(records.begin(), records.end(), [&](const auto& x, const auto& y) { return key(x.first) == key(y.first); }),
+  std::sort(records.begin(), records.end(), [](const auto& x, const auto& y) { return link_key(x.first) < link_key(y.first); });
+  records.erase(std::unique(records.begin(), records.end(),
+                            [](const auto& x, const auto& y) { return link_key(x.first) == link_key(y.first); }),
                 records.end());
   std::vector<ContactLink> links;
   for (const auto& [l, r] : records) {
