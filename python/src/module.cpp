@@ -174,23 +174,24 @@ py::dict contacts_of(PySimulation& self, bool walls) {
   struct Row {
     std::uint32_t i, j;
     double overlap;
-    Vec3 force;
+    Vec3 force, rolling_spring;
   };
   std::vector<Row> rows;
   for (const ContactRecord& r : s.simulation().forces().touching_contacts(w)) {
     if (r.wall != walls) continue;
     const Vec3 f = r.normal_force + r.tangential_force;
-    if (!walls && r.j < r.i) rows.push_back({r.j, r.i, r.overlap, -f});
-    else rows.push_back({r.i, r.j, r.overlap, f});
+    if (!walls && r.j < r.i) rows.push_back({r.j, r.i, r.overlap, -f, -r.history.rolling});
+    else rows.push_back({r.i, r.j, r.overlap, f, r.history.rolling});
   }
   std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
   std::vector<std::int64_t> i, j, id_i, id_j;
-  std::vector<double> overlap, force;
+  std::vector<double> overlap, force, rolling_spring;
   for (const Row& r : rows) {
     i.push_back(r.i), j.push_back(r.j), id_i.push_back(w.particles.id[r.i]);
     if (!walls) id_j.push_back(w.particles.id[r.j]);
     overlap.push_back(r.overlap);
     force.insert(force.end(), {r.force.x, r.force.y, r.force.z});
+    rolling_spring.insert(rolling_spring.end(), {r.rolling_spring.x, r.rolling_spring.y, r.rolling_spring.z});
   }
   auto array = [](const auto& v) {
     using T = typename std::decay_t<decltype(v)>::value_type;
@@ -202,7 +203,11 @@ py::dict contacts_of(PySimulation& self, bool walls) {
   d["id_i"] = array(id_i);
   if (!walls) d["id_j"] = array(id_j);
   d["overlap"] = array(overlap);
-  d["force"] = py::array_t<double>({static_cast<py::ssize_t>(overlap.size()), py::ssize_t{3}}, force.data());
+  const auto rows_of_3 = [&](const std::vector<double>& v) {
+    return py::array_t<double>({static_cast<py::ssize_t>(overlap.size()), py::ssize_t{3}}, v.data());
+  };
+  d["force"] = rows_of_3(force);
+  if (s.simulation().forces().resists_rolling()) d["rolling_spring"] = rows_of_3(rolling_spring);
   return d;
 }
 
@@ -313,9 +318,11 @@ PYBIND11_MODULE(_core, m) {
 
   sim.def("contacts", [](PySimulation& s) { return python::contacts_of(s, false); },
           "Touching particle pairs of the last evaluation: i, j (indices, i < j), id_i, id_j, overlap (m), force "
-          "(N, on particle i; particle j gets minus it)");
+          "(N, on particle i; particle j gets minus it), and when a law resists rolling rolling_spring (N m, model "
+          "epsd's spring torque on i, 0 under cdt)");
   sim.def("wall_contacts", [](PySimulation& s) { return python::contacts_of(s, true); },
-          "Touching particle-wall contacts of the last evaluation: i, wall, id_i, overlap (m), force (N, on i)");
+          "Touching particle-wall contacts of the last evaluation: i, wall, id_i, overlap (m), force (N, on i), and "
+          "rolling_spring (N m) when a law resists rolling");
   sim.def("energies", &python::energies_of,
           "Energies (J) and contact totals of the current state, as the columns of series.csv");
   sim.def("analyze", &python::analyze, py::arg("type"),

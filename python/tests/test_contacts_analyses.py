@@ -67,3 +67,23 @@ def test_contacts_after_a_resume_need_a_step(settled, tmp_path):
     assert np.isnan(sim.energies()["elastic"])
     sim.step()
     assert len(sim.contacts()["i"]) >= 10
+
+
+def test_rolling_spring_of_the_contacts(bed):
+    """With a rolling law each contact also gives its rolling spring, turned with the pair
+    (seen from the smaller index, as its force); without one there is no such array."""
+    assert "rolling_spring" not in tsubu.Simulation(bed).contacts()
+    sim = tsubu.Simulation(bed, overrides={"contact.default.rolling": "epsd", "contact.default.rolling_friction": 0.2})
+    sim.advance_to(0.004)
+    pairs, walls = sim.contacts(), sim.wall_contacts()
+    for c in (pairs, walls):
+        assert c["rolling_spring"].shape == c["force"].shape
+    springs = np.concatenate([pairs["rolling_spring"], walls["rolling_spring"]])
+    assert (np.abs(springs).max(axis=1) > 0).any()
+    # In the contact plane: no twist about the normal, the pair's line of centres (the pairs
+    # that touch inside the box; the others touch across a periodic side).
+    d = sim.positions[pairs["j"]] - sim.positions[pairs["i"]]
+    inside = np.linalg.norm(d, axis=1) < sim.radii[pairs["i"]] + sim.radii[pairs["j"]]
+    assert inside.sum() >= 10
+    along = np.abs((pairs["rolling_spring"] * d).sum(axis=1))[inside] / np.linalg.norm(d[inside], axis=1)
+    assert (along <= 1e-9 * np.abs(pairs["rolling_spring"]).max()).all()

@@ -2,7 +2,7 @@
 // wall under model CDT decelerates and stops as the analytic solution says; under model EPSD
 // a sphere on an incline stays put below the model's limit and rolls away above it; the
 // torques on a pair are equal and opposite and vanish without relative rotation; the
-// history's swap rule holds.
+// history's swap rule holds; the contact network carries the rolling spring.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +12,9 @@
 #include <vector>
 
 #include "tsubu/contact/law.hpp"
+#include "tsubu/io/contact_network.hpp"
+#include "tsubu/io/vtk.hpp"
+#include "tsubu_process.hpp"
 #include "world_builder.hpp"
 
 namespace tsubu {
@@ -173,6 +176,51 @@ TEST(RollingResistance, TorquesAreEqualAndOppositeAndVanishWithoutRelativeRollin
     const Pair2 other = touching_pair(model, {0, 3, -1}, {0, -2, 0.5}, true, 200);
     EXPECT_TRUE(same_bits(one.omega_a, other.omega_a) && same_bits(one.omega_b, other.omega_b)) << model;
     EXPECT_NE(one.omega_a.y, 3) << model << ": the torque acted";
+  }
+}
+
+// A sphere held on an incline by model EPSD: at rest the rolling spring carries the whole
+// torque of the friction force that holds it, R m g sin(theta) (to the overlap's share of the
+// lever arm, delta/R = 4e-4), and the contact files list it, after the columns of a law that
+// does not roll; a scenario without rolling resistance writes no such columns.
+TEST(RollingResistance, TheContactNetworkCarriesTheRollingSpring) {
+  const double mu_r = 0.1, dt = 2e-5, theta = std::atan(0.8 * mu_r);
+  const double mass = kGlass.density * M_PI / 6 * std::pow(kDiameter, 3);
+  testing::TempDir dir;
+  for (const char* model : {"epsd", "none"}) {
+    Bed b = sphere_on_floor(std::string_view(model) == "none" ? spec_of("hertz_tsuji", "mindlin", 0.5, 0.5)
+                                                              : rolling_spec(model, mu_r, 0.3),
+                            theta, {}, {}, dt);
+    auto& [w, law] = b;
+    ForceField f(law);
+    for (int k = 0; k < 15000; ++k) velocity_verlet_step(w, testing::evaluation(f, w));
+    const std::vector<NetworkContact> network = contact_network(w, f.touching_contacts(w));
+    ASSERT_EQ(network.size(), 1u);
+    const std::filesystem::path csv = dir.path() / (std::string(model) + ".csv");
+    write_contacts_csv(csv.string(), network, w.time, f.resists_rolling());
+    const std::string text = testing::slurp(csv);
+    const std::string header = text.substr(0, text.find('\n'));
+    const bool rolls = std::string_view(model) == "epsd";
+    EXPECT_EQ(f.resists_rolling(), rolls);
+    EXPECT_EQ(header.ends_with("normal_history1,mr_x[N m],mr_y[N m],mr_z[N m]"), rolls) << header;
+    EXPECT_EQ(header.ends_with("normal_history1"), !rolls) << header;
+    const std::filesystem::path vtp = dir.path() / (std::string(model) + ".vtp");
+    write_contacts_vtp(vtp.string(), network, w.time, f.resists_rolling());
+    EXPECT_EQ(testing::slurp(vtp).find("Name=\"rolling_spring\"") != std::string::npos, rolls);
+    if (!rolls) continue;
+    const Vec3 spring = network[0].history.rolling;
+    const double held = kRadius * mass * kG * std::sin(theta);
+    EXPECT_NEAR(norm(spring), held, 1e-3 * held);
+    EXPECT_NEAR(spring.y, -held, 1e-3 * held) << "about -y, against the spin of a roll down the slope (+x)";
+    // The row's last three numbers are the spring, written to the bit.
+    std::vector<double> row;
+    for (std::size_t at = text.find('\n') + 1; at < text.size() && text[at] != '\n';) {
+      std::size_t used = 0;
+      row.push_back(std::stod(text.substr(at), &used));
+      at += used + (text[at + used] == ',');
+    }
+    ASSERT_EQ(row.size(), 25u);
+    EXPECT_TRUE(same_bits({row[22], row[23], row[24]}, spring));
   }
 }
 

@@ -33,7 +33,8 @@ ExportedState export_checkpoint(const fs::path& out_dir, std::optional<double> a
   const Model model = build_model(sc);
   ForceField forces(model);
   forces.compute(world);
-  write_contacts_csv(out.contacts.string(), contact_network(world, forces.touching_contacts(world)), world.time);
+  write_contacts_csv(out.contacts.string(), contact_network(world, forces.touching_contacts(world)), world.time,
+                     forces.resists_rolling());
   return out;
 }
 

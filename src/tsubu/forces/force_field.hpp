@@ -191,6 +191,9 @@ class ForceField {
   // Whether the current lists have been evaluated (not yet after a resume from a checkpoint,
   // until the next step): touching_contacts() is then complete.
   bool evaluated(const World& world) const;
+  // Whether some law of the model resists rolling (its contacts then carry a rolling torque,
+  // and a rolling spring under model epsd).
+  bool resists_rolling() const { return rolls_; }
   // Hindered settling (Fluid::hindered): the solid fraction around particle i, its rate and
   // exponent as the last evaluation of i found them (a lone grain's without hindrance).
   const Crowding& crowding(std::size_t i) const { return i < crowding_.size() ? crowding_[i] : kLone; }

@@ -42,16 +42,18 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
   return out;
 }
 
-void write_contacts_csv(const std::string& path, const std::vector<NetworkContact>& contacts, double time) {
+void write_contacts_csv(const std::string& path, const std::vector<NetworkContact>& contacts, double time, bool rolling) {
   CheckedFile f(path);
   f << "time[s],i,j,wall,px[m],py[m],pz[m],bx[m],by[m],bz[m],fnx[N],fny[N],fnz[N],ftx[N],fty[N],ftz[N],overlap[m],"
-       "xi_x[m],xi_y[m],xi_z[m],normal_history0,normal_history1\n"
-    << std::setprecision(17);
+       "xi_x[m],xi_y[m],xi_z[m],normal_history0,normal_history1"
+    << (rolling ? ",mr_x[N m],mr_y[N m],mr_z[N m]\n" : "\n") << std::setprecision(17);
   for (const NetworkContact& c : contacts) {
     f << time << ',' << c.id_i << ',' << c.id_j << ',' << c.wall;
     for (const Vec3* v : {&c.point, &c.branch, &c.normal_force, &c.tangential_force}) f << ',' << v->x << ',' << v->y << ',' << v->z;
     f << ',' << c.overlap << ',' << c.history.xi.x << ',' << c.history.xi.y << ',' << c.history.xi.z << ','
-      << c.history.normal[0] << ',' << c.history.normal[1] << '\n';
+      << c.history.normal[0] << ',' << c.history.normal[1];
+    if (rolling) f << ',' << c.history.rolling.x << ',' << c.history.rolling.y << ',' << c.history.rolling.z;
+    f << '\n';
   }
   f.close();
 }

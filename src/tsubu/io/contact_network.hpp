@@ -27,7 +27,8 @@ struct NetworkContact {
 // wall: the same whatever the particles' numbering.
 std::vector<NetworkContact> contact_network(const World& world, const std::vector<ContactRecord>& contacts);
 
-// One row per contact, a header naming each column with its unit. Checked writes.
-void write_contacts_csv(const std::string& path, const std::vector<NetworkContact>& contacts, double time);
+// One row per contact, a header naming each column with its unit; rolling: with the rolling
+// spring's columns (a scenario whose laws resist rolling). Checked writes.
+void write_contacts_csv(const std::string& path, const std::vector<NetworkContact>& contacts, double time, bool rolling);
 
 }  // namespace tsubu

@@ -59,8 +59,8 @@ void FrameSeries::write(const World& world, const ForceField& forces) {
   if (contacts_) {
     const std::vector<NetworkContact> network = contact_network(world, forces.touching_contacts(world));
     const std::string vtp = name("contacts", k, "vtp"), csv = name("contacts", k, "csv");
-    write_contacts_vtp((dir_ / vtp).string(), network, world.time);
-    write_contacts_csv((dir_ / csv).string(), network, world.time);
+    write_contacts_vtp((dir_ / vtp).string(), network, world.time, forces.resists_rolling());
+    write_contacts_csv((dir_ / csv).string(), network, world.time, forces.resists_rolling());
     unsynced_.push_back(dir_ / csv);
     add(contact_index_, vtp);
   }

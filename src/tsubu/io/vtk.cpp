@@ -112,9 +112,9 @@ void write_vtu(const std::string& path, const Particles& p, double time) {
   f.close();
 }
 
-void write_contacts_vtp(const std::string& path, const std::vector<NetworkContact>& contacts, double time) {
+void write_contacts_vtp(const std::string& path, const std::vector<NetworkContact>& contacts, double time, bool rolling) {
   const std::size_t n = contacts.size();
-  std::vector<Vec3> points, point(n), branch(n), fn(n), ft(n), xi(n);
+  std::vector<Vec3> points, point(n), branch(n), fn(n), ft(n), xi(n), spring(n);
   std::vector<std::int64_t> id_i(n), id_j(n);
   std::vector<std::int32_t> wall(n);
   std::vector<double> overlap(n), normal_history(2 * n);
@@ -124,7 +124,7 @@ void write_contacts_vtp(const std::string& path, const std::vector<NetworkContac
     points.push_back(c.centre_i + c.branch);
     id_i[k] = c.id_i, id_j[k] = c.id_j, wall[k] = c.wall;
     point[k] = c.point, branch[k] = c.branch, fn[k] = c.normal_force, ft[k] = c.tangential_force;
-    overlap[k] = c.overlap, xi[k] = c.history.xi;
+    overlap[k] = c.overlap, xi[k] = c.history.xi, spring[k] = c.history.rolling;
     normal_history[2 * k] = c.history.normal[0], normal_history[2 * k + 1] = c.history.normal[1];
   }
   CheckedFile f(path);
@@ -140,6 +140,7 @@ void write_contacts_vtp(const std::string& path, const std::vector<NetworkContac
   data_array(f, "Float64", "overlap", 1, overlap);
   vec_array(f, "tangential_spring", xi);
   data_array(f, "Float64", "normal_history", 2, normal_history);
+  if (rolling) vec_array(f, "rolling_spring", spring);
   f << "</CellData>\n";
   close_dataset(f, "PolyData");
   f.close();

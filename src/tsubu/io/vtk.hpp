@@ -18,7 +18,7 @@ void write_vtu(const std::string& path, const Particles& p, double time);
 // A line from particle i's centre along the branch vector per contact (a pair across a
 // periodic boundary is drawn at i's side, its far end outside the box), the quantities as
 // cell data.
-void write_contacts_vtp(const std::string& path, const std::vector<NetworkContact>& contacts, double time);
+void write_contacts_vtp(const std::string& path, const std::vector<NetworkContact>& contacts, double time, bool rolling);
 // Each wall as the rectangle of its plane that covers the domain's shadow on it (for a wall
 // normal to an axis: the box face), at the wall's current position.
 void write_walls_vtp(const std::string& path, const std::vector<Wall>& walls, const Domain& domain, double time);
