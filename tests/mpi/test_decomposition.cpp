@@ -73,6 +73,7 @@ void expect_same_bits(const Case& c) {
   split.start();
   split.advance_to(steps);
   const bool ghosts = comm.any(split.world().ghosts > 0);
+  const double most_builds = comm.max(static_cast<double>(split.forces().rebuilds()));
   Decomposition::Gathered all = decomposition.gathered(split.world(), split.forces());
   if (comm.rank() != 0) return;
   const std::array<int, 3>& g = decomposition.grid().counts();
@@ -85,6 +86,9 @@ void expect_same_bits(const Case& c) {
   Simulation alone(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
   alone.start();
   alone.advance_to(steps);
+  // A split run builds its lists at most about as often as one process: at its hand-overs
+  // (decided by the same skin) and when a ghost has moved half a skin.
+  EXPECT_LE(most_builds, 1.5 * static_cast<double>(alone.forces().rebuilds()) + 10) << "lists built far more often than alone";
   ASSERT_EQ(all.world.particles.size(), alone.world().particles.size());
   EXPECT_TRUE(state_of(all.world) == state_of(alone.world())) << "the split run's state differs from one process's";
   ForceField view(alone.model());  // the gathered contacts' outputs, as one process writes them
