@@ -261,7 +261,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const auto& d = with_rate<T>(separation[b], value(mi.v) - value(mj.v));
     BasicContactGeometry<T> g =
         pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w);
-    g.rolling_inertia = 1 / (1 / rolling_inertia(p, c.i) + 1 / rolling_inertia(p, c.j));
+    if (rolls_) g.rolling_inertia = 1 / (1 / rolling_inertia(p, c.i) + 1 / rolling_inertia(p, c.j));  // read by epsd only
     lanes.set_geometry(b, g, state.step(c.i, c.j));
     lanes.set_history(b, c.history);
   }
@@ -344,7 +344,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], wall.normal, with_rate<T>(dist, dot(value(v_rel), wall.normal)),
                                                v_rel, a.w);
   g.dt = state.step(i);
-  g.rolling_inertia = rolling_inertia(p, i);
+  if (rolls_) g.rolling_inertia = rolling_inertia(p, i);
   const auto f = evaluate_law(normal, tangential, rolling, g, c.history);
   const Vector<T> n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), value(g.delta), f.energy);
