@@ -207,12 +207,14 @@ void ForceField::accumulate(World& world, double fluid_lead) {
   // Each particle gathers its own contacts in a fixed order (its partners' ids, then its
   // walls: gather), so the sums are the same bits for every thread count and numbering (and
   // no two threads write the same particle). Listed pairs that do not touch hold zeros and
-  // are added without a test (no branch to miss).
-  const int threads = threads_for(p.size());
+  // are added without a test (no branch to miss). Only the owned particles: the copies of
+  // other processes' particles (World::ghosts) are moved by their owners.
+  const std::size_t owned = world.owned();
+  const int threads = threads_for(owned);
   std::vector<double> worst(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::uint64_t> touching(static_cast<std::size_t>(threads), 0);
   for_each_thread(threads, [&](int t) {
-    const auto [begin, end] = static_range(p.size(), t, threads);
+    const auto [begin, end] = static_range(owned, t, threads);
     double local_worst = 0;
     std::uint64_t local_touching = 0;
     for (std::size_t i = begin; i < end; ++i) {
