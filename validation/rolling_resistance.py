@@ -18,6 +18,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from report_files import save  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = os.path.join(ROOT, "examples", "rolling")
@@ -112,12 +113,7 @@ def main():
     right.set_ylabel("displacement down the slope (mm)")
     right.set_title(f"EPSD, μ_r = {MU_R_EPSD}: a sphere on an incline from rest")
     right.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(opts.out, "rolling-resistance.png"), dpi=110)
-    with open(os.path.join(opts.out, "rolling-resistance.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["model", "mu_r", "tan_theta", "quantity", "tsubu", "analytic"])
-        w.writerows(rows)
+    save(fig, opts.out, "rolling-resistance", ["model", "mu_r", "tan_theta", "quantity", "tsubu", "analytic"], rows)
     return 0
 
 
