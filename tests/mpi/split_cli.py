@@ -2,10 +2,12 @@
 """`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
 of 3 processes resumed on 2 ends with one process's bits; a stop by SIGINT, then resume, too;
 what cannot be split yet is refused (exit 2, naming the key); a failure on process 1 ends the
-whole job with its message. (tools/compare_runs.py --new-launcher compares whole runs.)
+whole job with its message; process 0 of a split run with moving walls builds its lists
+about as often as one process. (tools/compare_runs.py --new-launcher compares whole runs.)
 
     python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
 """
+import json
 import pathlib
 import shlex
 import signal
@@ -88,6 +90,17 @@ def main():
         code, err = run(tsubu, launcher, 3, ["resume", str(stopped)])
         check(code == 0, f"it resumes on 3 processes ({code}: {err[-400:]})")
         same_files(alone, stopped, "stopped by SIGINT on 2 processes, resumed on 3")
+
+        # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
+        # half the skin, not every step.
+        builds = []
+        for processes in (1, 3):
+            out = tmp / f"walls{processes}"
+            code, err = run(tsubu, launcher, processes, ["run", str(ROOT / "tests/scenarios/contact_network.toml"), "--out",
+                                                         str(out), "--set", "simulation.duration=0.05"])
+            assert code == 0, err
+            builds.append(json.loads((out / "run.json").read_text())["list_builds"])
+        check(0 < builds[1] <= 2 * builds[0], f"moving walls: {builds[1]} list builds on process 0 of 3, {builds[0]} alone")
 
         # What a split run does not support yet, and the one-process commands.
         for scenario, sets, key in [
