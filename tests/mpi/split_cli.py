@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
-of 3 processes resumed on 2 ends with one process's bits; a stop by SIGINT, then resume, too;
-what cannot be split yet is refused (exit 2, naming the key); a failure on process 1 ends the
-whole job with its message; process 0 of a split run with moving walls builds its lists
+of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
+resume, and a run with rolling resistance; what cannot be split yet is refused (exit 2,
+naming the key); a failure on process 1 ends the whole job with its message; process 0 of a split run with moving walls builds its lists
 about as often as one process. (tools/compare_runs.py --new-launcher compares whole runs.)
 
     python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
@@ -90,6 +90,16 @@ def main():
         code, err = run(tsubu, launcher, 3, ["resume", str(stopped)])
         check(code == 0, f"it resumes on 3 processes ({code}: {err[-400:]})")
         same_files(alone, stopped, "stopped by SIGINT on 2 processes, resumed on 3")
+
+        # Rolling resistance (EPSD): its spring, a contact history slot, is handed over and
+        # gathered with the others.
+        rolling = ["contact.default.rolling=\"epsd\"", "contact.default.rolling_friction=0.1",
+                   "contact.default.rolling_damping=0.3", "output.checkpoint_every_steps=1000"]
+        for processes in (1, 2):
+            code, err = run(tsubu, launcher, processes, ["run", SETTLE, "--out", str(tmp / f"rolling{processes}")] +
+                            with_sets(SETS[:1] + rolling))
+            assert code == 0, err
+        same_files(tmp / "rolling1", tmp / "rolling2", "rolling resistance on 2 processes")
 
         # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
         # half the skin, not every step.

@@ -201,6 +201,12 @@ void follow(ObservedRun& run, bool fresh) {
   }
 }
 
+// The scenario checkpoint c (file `used`) stores, with a resume's --set values.
+Scenario resumed_scenario(const Checkpoint& c, const std::filesystem::path& used, const std::vector<std::string>& sets) {
+  const Scenario stored = scenario_of(c, used);
+  return sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+}
+
 }  // namespace
 
 RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite,
@@ -217,14 +223,14 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim, processes.count) : ObservedRun(sim);
   return execute(sc, run, out_dir, owner.run_id(), threads, progress, nullptr);
 }
+
 RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets,
                       const Processes& processes) {
   namespace fs = std::filesystem;
   if (processes.rank != 0) {  // reads the checkpoint process 0 takes (which checks it against the folder) and follows
     fs::path used;
     Checkpoint c = read_newest_checkpoint(fs::path(out_dir) / "checkpoint", used, {"resume", std::nullopt, false});
-    const Scenario stored = scenario_of(c, used);
-    const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+    const Scenario sc = resumed_scenario(c, used, sets);
     refuse_what_cannot_split(sc, processes.count);
     Simulation sim = restore_simulation(sc, c, used);
     ObservedRun run(sc, sim, processes.count);
@@ -242,8 +248,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   if (c.engine_version != kVersion)
     std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
-  const Scenario stored = scenario_of(c, used);
-  const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+  const Scenario sc = resumed_scenario(c, used, sets);
   if (processes.count > 1) refuse_what_cannot_split(sc, processes.count);
   refuse_losing_rows(sc, c, used, out_dir);
   Simulation sim = restore_simulation(sc, c, used);
