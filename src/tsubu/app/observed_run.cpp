@@ -19,14 +19,14 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
   if (inflow_source(sc)) refuse("particles.source = \"inflow\"");
   if (sc.fluid.hindered) refuse("fluid.hindered_settling = true");
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
+  if (const int seen = Communicator::world().size(); seen != processes)
+    throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
+                     std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "
+                     "process, or build tsubu with the launcher's MPI (docs/parallel.md)");
 }
 
-ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim, int processes) : part_(sim) {
+ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
   const Communicator& comm = Communicator::world();
-  if (comm.size() != processes)
-    throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
-                     std::to_string(comm.size()) + " (built without MPI, or its MPI is not the launcher's): run "
-                     "one process, or build tsubu with the launcher's MPI (docs/parallel.md)");
   const Particles& p = sim.world().particles;
   const double reach = p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
   if (comm.rank() == 0) {

@@ -19,10 +19,9 @@ class ObservedRun {
   // One process: the observers read `sim` itself.
   explicit ObservedRun(Simulation& sim) : part_(sim) {}
   // `sim`, the whole run on every process (built from the scenario or restored from a whole
-  // checkpoint), split among the `processes` processes the launcher started (MPI's, which
-  // this starts; a UsageError when they are not all one job, a build without MPI): each keeps
-  // its part, and process 0 a copy of the whole as the mirror.
-  ObservedRun(const Scenario& sc, Simulation& sim, int processes);
+  // checkpoint), split among MPI's processes (refuse_what_cannot_split first): each keeps its
+  // part, and process 0 a copy of the whole as the mirror.
+  ObservedRun(const Scenario& sc, Simulation& sim);
 
   bool split() const { return decomposition_ != nullptr; }
   // Process 0 (or the one process): the process that writes the run's files.
@@ -50,8 +49,9 @@ class ObservedRun {
   void gather();
 };
 
-// A run split among `processes` processes is refused (UsageError naming the key) for what the
-// decomposition does not carry yet: the inflow, hindered settling, block steps.
+// A run split among the `processes` processes a launcher started is refused (UsageError) for
+// what the decomposition does not carry yet, naming the key (the inflow, hindered settling,
+// block steps), and when the processes are not one MPI job (a build without MPI). Starts MPI.
 void refuse_what_cannot_split(const Scenario& sc, int processes);
 
 }  // namespace tsubu

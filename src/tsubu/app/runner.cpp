@@ -214,13 +214,13 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
   if (processes.count > 1) refuse_what_cannot_split(sc, processes.count);
   Simulation sim = new_simulation(sc);  // bad input is reported before the folder is touched
   if (processes.rank != 0) {
-    ObservedRun run(sc, sim, processes.count);
+    ObservedRun run(sc, sim);
     follow(run, true);
     return {};
   }
   for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
   const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
-  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim, processes.count) : ObservedRun(sim);
+  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim) : ObservedRun(sim);
   return execute(sc, run, out_dir, owner.run_id(), threads, progress, nullptr);
 }
 
@@ -233,7 +233,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
     const Scenario sc = resumed_scenario(c, used, sets);
     refuse_what_cannot_split(sc, processes.count);
     Simulation sim = restore_simulation(sc, c, used);
-    ObservedRun run(sc, sim, processes.count);
+    ObservedRun run(sc, sim);
     follow(run, false);
     return {};
   }
@@ -254,7 +254,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);
-  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim, processes.count) : ObservedRun(sim);
+  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim) : ObservedRun(sim);
   return execute(sc, run, out_dir, owner.run_id(), threads, progress, &c);
 }
 
