@@ -9,7 +9,12 @@ contact network, wall file and .pvd index, the final checkpoint's state (as `tsu
 writes it: the checkpoint itself also holds the run id and the wall-clock time) and
 run.json's results (its timings and ids are left out). Exit status 0 when everything is identical, 1 otherwise.
 
-    python3 tools/compare_runs.py OLD_TSUBU NEW_TSUBU [--keep DIR] [--threads N]
+    python3 tools/compare_runs.py OLD_TSUBU NEW_TSUBU [--keep DIR] [--threads N] [--new-launcher CMD]
+
+With --new-launcher (a command put before NEW_TSUBU, e.g. "mpirun -np 3"), NEW_TSUBU's runs
+are split among processes (docs/parallel.md): only the cases a split run supports are run,
+and run.json's force-evaluation and list-build counters (each process's own work) are left
+out of the comparison.
 
 OLD_TSUBU is, for example, a build of the commit before the change:
     git worktree add /tmp/before HEAD~1 && cmake -S /tmp/before -B /tmp/before/build -G Ninja \
@@ -19,6 +24,7 @@ import argparse
 import filecmp
 import json
 import pathlib
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -40,16 +46,21 @@ CASES = [
     ("search_multilevel", "tests/scenarios/poly_search.toml", []),
     ("search_cell", "tests/scenarios/poly_search.toml", ['search.method="cell"']),
 ]
+# The cases a run split among processes supports (no inflow, hindered settling or block steps).
+SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "moving_walls", "hysteresis_piston", "search_multilevel",
+          "search_cell"}
 # Every case writes frames and a final checkpoint.
 COMMON = ["output.vtk_interval=0.01"]
+# run.json keys that count the work of the process that writes run.json, in a split run.
+COUNTERS = {"particle_force_evaluations", "contact_evaluations", "list_builds"}
 # run.json keys that are measurements of the machine, not results.
 UNSTABLE = {"run_id", "wall_time_s", "loop_time_s", "loop_sessions", "particle_steps_per_second", "started",
             "finished", "host", "threads", "tsubu", "version", "sessions", "command"}
 
 
-def run(tsubu, case, out, threads):
+def run(tsubu, case, out, threads, launcher=()):
     name, scenario, sets = case
-    cmd = [tsubu, "run", str(ROOT / scenario), "--out", str(out), "--threads", str(threads)]
+    cmd = [*launcher, tsubu, "run", str(ROOT / scenario), "--out", str(out), "--threads", str(threads)]
     for s in COMMON + sets:
         cmd += ["--set", s]
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -57,9 +68,9 @@ def run(tsubu, case, out, threads):
         sys.exit(f"{name}: {' '.join(cmd)} failed ({r.returncode}):\n{r.stderr}")
 
 
-def stable_json(path):
+def stable_json(path, leave_out):
     j = json.loads(path.read_text())
-    return {k: v for k, v in j.items() if k not in UNSTABLE}
+    return {k: v for k, v in j.items() if k not in leave_out}
 
 
 def export(tsubu, run_dir, to):
@@ -70,8 +81,9 @@ def export(tsubu, run_dir, to):
         sys.exit(f"tsubu export {run_dir} failed ({r.returncode}):\n{r.stderr}")
 
 
-def compare(a, b):
-    """The files that differ between run folders a and b (or exist in one only)."""
+def compare(a, b, leave_out):
+    """The files that differ between run folders a and b (or exist in one only); run.json
+    without the keys `leave_out`."""
     skip = {"run.json", ".tsubu-run", ".tsubu-lock"}
     files_a = {p.relative_to(a) for p in a.rglob("*") if p.is_file() and p.name not in skip and "logs" not in p.parts}
     files_b = {p.relative_to(b) for p in b.rglob("*") if p.is_file() and p.name not in skip and "logs" not in p.parts}
@@ -79,7 +91,7 @@ def compare(a, b):
     for f in sorted(files_a & files_b):
         if f.suffix != ".tsbk" and not filecmp.cmp(a / f, b / f, shallow=False):
             differ.append(str(f))
-    if stable_json(a / "run.json") != stable_json(b / "run.json"):
+    if stable_json(a / "run.json", leave_out) != stable_json(b / "run.json", leave_out):
         differ.append("run.json (results)")
     return differ, len(files_a & files_b)
 
@@ -90,17 +102,21 @@ def main():
     ap.add_argument("new")
     ap.add_argument("--keep", help="write the runs here (default: a temporary folder, removed)")
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--new-launcher", default="", help="a command before NEW_TSUBU, e.g. \"mpirun -np 3\"")
     args = ap.parse_args()
+    launcher = shlex.split(args.new_launcher)
+    cases = [c for c in CASES if not launcher or c[0] in SPLITS]
+    leave_out = UNSTABLE | COUNTERS if launcher else UNSTABLE
     with tempfile.TemporaryDirectory() as tmp:
         base = pathlib.Path(args.keep or tmp)
         failed = 0
-        for case in CASES:
+        for case in cases:
             a, b = base / case[0] / "old", base / case[0] / "new"
             run(args.old, case, a, args.threads)
-            run(args.new, case, b, args.threads)
+            run(args.new, case, b, args.threads, launcher)
             export(args.old, a, a / "state")
             export(args.new, b, b / "state")
-            differ, n = compare(a, b)
+            differ, n = compare(a, b, leave_out)
             print(f"{case[0]:26s} {n:4d} files " + ("identical" if not differ else "DIFFER: " + ", ".join(differ[:6])))
             failed += bool(differ)
     sys.exit(1 if failed else 0)

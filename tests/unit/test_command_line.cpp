@@ -1,12 +1,14 @@
 // The command line (docs/cli.md): OMP_NUM_THREADS sets the threads when --threads is not
-// given, a bad value is refused (exit 2), copies started by mpirun are refused, and a --set string written without quotes gets a
-// hint that shows the quoting.
+// given, a bad value is refused (exit 2), copies started by mpirun are refused where a run
+// cannot be split among them, and a --set string written without quotes gets a hint that
+// shows the quoting.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "tsubu_process.hpp"
 
@@ -53,22 +55,28 @@ TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
   }
 }
 
-// Copies started by an MPI launcher would each run the whole scenario into one folder: they
-// are refused until a run is split among processes from the command line.
+// Copies started by an MPI launcher split `run` and `resume` among them (tests/mpi/split_cli.py);
+// `check` and `export` are one process's work, and a run the decomposition cannot carry yet
+// (here the inflow) is refused, before MPI starts and before the folder is touched. One copy
+// says why.
 TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
   TempDir dir;
   const fs::path out = dir.path() / "out", log = dir.path() / "log";
-  for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}}) {
-    const auto copy = [&](const char* r) {
-      return run({"run", kValidSmall, "--out", out.string()}, log, [&] { setenv(size, "3", 1), setenv(rank, r, 1); });
-    };
-    EXPECT_EQ(copy("0"), 2) << slurp(log);
-    EXPECT_NE(slurp(log).find("error: started as 3 processes (mpirun): `tsubu run` runs as one process"), std::string::npos)
-        << slurp(log);
-    EXPECT_EQ(copy("2"), 2) << slurp(log);
-    EXPECT_EQ(slurp(log), "");  // one copy says why
-    EXPECT_FALSE(fs::exists(out)) << size;
-  }
+  const std::string inflow = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "inflow_small.toml").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"check", kValidSmall}, "error: started as 3 processes (mpirun): `tsubu check` runs as one process"},
+      {{"export", out.string()}, "error: started as 3 processes (mpirun): `tsubu export` runs as one process"},
+      {{"run", inflow, "--out", out.string()},
+       "error: started as 3 processes (mpirun): particles.source = \"inflow\" is not yet available in a run split"}};
+  for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}})
+    for (const auto& [args, message] : refused) {
+      const auto copy = [&](const char* r) { return run(args, log, [&] { setenv(size, "3", 1), setenv(rank, r, 1); }); };
+      EXPECT_EQ(copy("0"), 2) << slurp(log);
+      EXPECT_NE(slurp(log).find(message), std::string::npos) << slurp(log);
+      EXPECT_EQ(copy("2"), 2) << slurp(log);
+      EXPECT_EQ(slurp(log), "");  // one copy says why
+      EXPECT_FALSE(fs::exists(out)) << size;
+    }
   // One process of a launcher runs.
   EXPECT_EQ(run({"run", kValidSmall, "--out", out.string(), "--set", "simulation.duration=1e-4"}, log,
                 [] { setenv("OMPI_COMM_WORLD_SIZE", "1", 1); }),

@@ -13,6 +13,7 @@
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
+#include "tsubu/ranks/communicator.hpp"
 #include "tsubu/sim/time_scales.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
@@ -37,26 +38,47 @@ int threads_from_environment() {
   return static_cast<int>(n);
 }
 
-// How many copies of this command an MPI launcher started (Open MPI's mpirun, or one that
-// speaks PMI: MPICH's mpiexec, srun --mpi=pmi2), from the variables it sets for its
-// processes: 1 when none did. A run is not yet split among
-// processes from the command line (docs/parallel.md): N copies would each run the whole
-// scenario into one folder, so they are refused (only process 0 says why).
-void refuse_several_processes(const char* command) {
-  long processes = 1, rank = 0;
+// The copies of this command an MPI launcher started (Open MPI's mpirun, or one that speaks
+// PMI: MPICH's mpiexec, srun --mpi=pmi2), from the variables it sets for its processes:
+// one when none did. Read before MPI starts (a run of one process never starts it).
+tsubu::Processes launcher_processes() {
+  tsubu::Processes processes;
   for (const auto& [size, rank_of] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
                                       std::pair{"PMI_SIZE", "PMI_RANK"}}) {
     const char* n = std::getenv(size);
-    if (!n || std::atol(n) <= processes) continue;
-    processes = std::atol(n);
+    if (!n || std::atol(n) <= processes.count) continue;
+    processes.count = static_cast<int>(std::atol(n));
     const char* r = std::getenv(rank_of);
-    rank = r ? std::atol(r) : 0;
+    processes.rank = r ? static_cast<int>(std::atol(r)) : 0;
   }
-  if (processes == 1) return;
-  if (rank != 0) std::exit(2);
-  throw tsubu::UsageError("started as " + std::to_string(processes) + " processes (mpirun): `tsubu " + command +
-                          "` runs as one process; a run split among processes is not yet available from the command "
-                          "line (docs/parallel.md). Start one process, with --threads for the cores of a node");
+  return processes;
+}
+
+// `tsubu check` and `tsubu export` are one process's work: N copies would each do it whole
+// (into one folder), so they are refused (only process 0 says why, before MPI starts).
+void refuse_several_processes(const tsubu::Processes& processes, const char* command) {
+  if (processes.count == 1) return;
+  if (processes.rank != 0) std::exit(2);
+  throw tsubu::UsageError("started as " + std::to_string(processes.count) + " processes (mpirun): `tsubu " + command +
+                          "` runs as one process; only `tsubu run` and `tsubu resume` split among processes "
+                          "(docs/parallel.md)");
+}
+
+// How an error ends the command: `text` on stderr and exit code `code`. In a run split among
+// processes, before MPI started every process met the same error (the same input) and only
+// process 0 says it; afterwards the failing process says it, naming itself, and ends the
+// whole job (Communicator::end_job), so that none waits for ever for it. A stop by a signal
+// is agreed by all processes, which end by themselves.
+int ended(const tsubu::Processes& processes, int code, const std::string& text, bool agreed = false) {
+  if (processes.count == 1 || agreed || !tsubu::Communicator::started()) {
+    if (processes.rank == 0) std::fprintf(stderr, "%s\n", text.c_str());
+    return code;
+  }
+  std::string line = text;
+  line.erase(0, line.find_first_not_of('\n'));
+  std::fprintf(stderr, "tsubu: process %d: %s\n", processes.rank, line.c_str());
+  std::fflush(stderr);
+  tsubu::Communicator::end_job(code);
 }
 
 // What `tsubu check` prints about the time step (docs/cli.md, "Time scales and the time step").
@@ -167,9 +189,9 @@ int main(int argc, char** argv) {
     // --help and --version end here with 0; every mistake on the command line is bad input.
     return app.exit(e) == 0 ? 0 : 2;
   }
+  const tsubu::Processes processes = launcher_processes();
   try {
-    if (run->parsed() || resume->parsed() || exporter->parsed())
-      refuse_several_processes(run->parsed() ? "run" : resume->parsed() ? "resume" : "export");
+    if (check->parsed() || exporter->parsed()) refuse_several_processes(processes, check->parsed() ? "check" : "export");
     if (run->parsed() || resume->parsed()) tsubu::progress_log_interval();  // a bad TSUBU_LOG_INTERVAL: refused before any work
     if (exporter->parsed()) {
       if (at->count() && !std::isfinite(export_at))
@@ -186,7 +208,8 @@ int main(int argc, char** argv) {
     omp_set_num_threads(threads);
 #endif
     if (resume->parsed()) {
-      const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, true, overrides);
+      const tsubu::RunSummary s = tsubu::resume_run(resume_dir, threads, processes.rank == 0, overrides, processes);
+      if (processes.rank != 0) return 0;
       std::printf("resumed: %lld steps of %zu particles; output in %s\n", static_cast<long long>(s.steps), s.particles,
                   resume_dir.c_str());
       print_results(s);
@@ -205,7 +228,8 @@ int main(int argc, char** argv) {
     }
     if (run->count("--out") > 0 && out_dir.empty()) throw tsubu::UsageError("--out is empty; give a folder name");
     if (out_dir.empty()) out_dir = sc.output.dir.empty() ? "out/" + sc.name : sc.output.dir;
-    const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, true, overwrite);
+    const tsubu::RunSummary s = tsubu::run_scenario(sc, out_dir, threads, processes.rank == 0, overwrite, processes);
+    if (processes.rank != 0) return 0;
     std::printf("%s: %lld steps of %zu particles in %.3f s (%.4g particle-steps/s); output in %s\n", sc.name.c_str(),
                 static_cast<long long>(s.steps), s.particles, s.wall_seconds,
                 s.particle_steps_per_second(),
@@ -213,22 +237,16 @@ int main(int argc, char** argv) {
     print_results(s);
     return 0;
   } catch (const tsubu::InputError& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 2;
+    return ended(processes, 2, e.what());
   } catch (const tsubu::UsageError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
+    return ended(processes, 2, std::string("error: ") + e.what());
   } catch (const tsubu::WriteError& e) {
-    std::fprintf(stderr, "\nwrite failure: %s\n", e.what());
-    return 5;
+    return ended(processes, 5, std::string("\nwrite failure: ") + e.what());
   } catch (const tsubu::NumericalError& e) {
-    std::fprintf(stderr, "numerical failure: %s\n", e.what());
-    return 3;
+    return ended(processes, 3, std::string("numerical failure: ") + e.what());
   } catch (const tsubu::Interrupted& e) {
-    std::fprintf(stderr, "\ninterrupted: %s\n", e.what());
-    return 4;
+    return ended(processes, 4, std::string("\ninterrupted: ") + e.what(), true);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+    return ended(processes, 1, std::string("error: ") + e.what());
   }
 }

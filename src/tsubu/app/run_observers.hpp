@@ -32,6 +32,10 @@ class RunObservers {
   // step's, or the one a [[stop]] condition ends, writes them all). Returns whether the run
   // ends here.
   bool after_step(const Simulation& sim, std::int64_t step, std::int64_t last_step);
+  // Whether after_step reads the state at `step` (writes a row or a frame).
+  bool reads_state(std::int64_t step, std::int64_t last_step) const {
+    return step == last_step || step % series_every_ == 0 || step % track_every_ == 0 || (vtk_every_ && step % vtk_every_ == 0);
+  }
   // The [[stop]] condition that ended the run ("" while none has).
   const std::string& stop_reason() const { return stop_reason_; }
   // Where the [[stop]] conditions stand, for the progress report.

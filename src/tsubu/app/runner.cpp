@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "tsubu/analysis/measures.hpp"
+#include "tsubu/app/observed_run.hpp"
 #include "tsubu/app/progress.hpp"
 #include "tsubu/app/resume_rules.hpp"
 #include "tsubu/app/run_checkpoints.hpp"
@@ -93,10 +94,13 @@ std::string cut_short_message(int sig, const World& world, const RunCheckpoints&
   return msg.str();
 }
 
-// The time loop from the simulation's state: from step 0 (from == nullptr; forces not yet
-// computed) or from a checkpoint whose world state, forces included, is already in `sim`.
-RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_dir, const std::string& run_id,
+// The time loop from the run's state, on the process that writes the files: from step 0
+// (from == nullptr; forces not yet computed) or from a checkpoint whose world state, forces
+// included, is already in the run. The observers read run.observed(); the other processes of
+// a split run follow (follow()), taking the same collective decisions after every step.
+RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_dir, const std::string& run_id,
                    int threads, bool progress, const Checkpoint* from) {
+  Simulation& sim = run.observed();
   const World& world = sim.world();
   RunObservers observers(sc, sim, out_dir, from);
   RunCheckpoints checkpoints(sc, out_dir, from);
@@ -119,11 +123,12 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   const Progress::Mode mode = progress_mode(progress);
   const double log_interval = mode == Progress::Mode::log ? progress_log_interval() : 0.0;
   StopSignals stop_signals;
+  bool deciding = true;  // the other processes of a split run wait in agree_last for this one's word
   try {
     if (from) {
       observers.resumed(sim);
     } else {
-      sim.start();
+      run.start();
       observers.first_rows(sim);
     }
     Progress report(mode, log_interval, world.step, steps, clock.elapsed());
@@ -132,26 +137,31 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
       return ProgressPhysics{e.kinetic_translational + e.kinetic_rotational, sim.forces().totals(world).contacts};
     };
     clock.loop_starts(world.step);
-    for (bool last = world.step >= steps || !observers.stop_reason().empty(); !last;) {
-      sim.step();
+    for (bool last = run.agree_last(world.step >= steps || !observers.stop_reason().empty()); !last;) {
+      deciding = false;
+      run.advance();
       clock.stepped(world.step);
-      last = observers.after_step(sim, world.step, steps);
-      if (g_stop_signal != 0) {
-        const int sig = g_stop_signal;
+      const bool checkpoint_due = checkpoints.due(world.step, clock);
+      const bool report_due = report.active() && report.due(clock.elapsed());
+      const int sig = run.agree_after_step(observers.reads_state(world.step, steps) || checkpoint_due || report_due);
+      deciding = true;
+      last = run.agree_last(observers.after_step(sim, world.step, steps));
+      deciding = false;
+      if (sig != 0) {
         checkpoint();
         const std::string msg = stopped_message(sig, world, checkpoints, out_dir);
         end_with("interrupted", msg);
         throw Interrupted(msg);
       }
-      if (!last && checkpoints.due(world.step, clock)) checkpoint();
+      if (!last && checkpoint_due) checkpoint();
       else observers.flush_if_due(clock);
-      if (report.active() && report.due(clock.elapsed()))
-        report.report(world.step, world.time, clock.elapsed(), physics, observers.stop_progress(sim));
+      if (report_due) report.report(world.step, world.time, clock.elapsed(), physics, observers.stop_progress(sim));
     }
     report.finish();
     if (checkpoints.enabled() && checkpoints.newest_step() != world.step) checkpoint();  // the final state
     observers.close();
   } catch (const StopRequested&) {
+    if (deciding) run.agree_last(true);  // the other processes end too, at this step
     observers.flush(clock);
     const std::string msg = cut_short_message(g_stop_signal, world, checkpoints, out_dir);
     end_with("interrupted", msg);
@@ -159,7 +169,7 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
     observers.flush(clock);
-    observers.failure_frame(sim);
+    if (!run.split()) observers.failure_frame(sim);  // a split run's state is on its processes
     const std::string msg = e.what() + checkpoints.kept();
     end_with("failed", msg);
     throw NumericalError(msg);
@@ -178,17 +188,55 @@ RunSummary execute(const Scenario& sc, Simulation& sim, const std::string& out_d
   return summary;
 }
 
-}  // namespace
-
-RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite) {
-  Simulation sim = new_simulation(sc);  // bad input is reported before the folder is touched
-  for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
-  const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
-  return execute(sc, sim, out_dir, owner.run_id(), threads, progress, nullptr);
+// A process of a split run other than process 0: its part of execute()'s loop, with the same
+// collective steps in the same order, until process 0 says the run ends (or a stop signal:
+// process 0 writes the checkpoint).
+void follow(ObservedRun& run, bool fresh) {
+  StopSignals stop_signals;
+  if (fresh) run.start();
+  for (bool last = run.agree_last(false); !last;) {
+    run.advance();
+    const int sig = run.agree_after_step(false);
+    last = run.agree_last(false) || sig != 0;
+  }
 }
 
-RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets) {
+// The scenario checkpoint c (file `used`) stores, with a resume's --set values.
+Scenario resumed_scenario(const Checkpoint& c, const std::filesystem::path& used, const std::vector<std::string>& sets) {
+  const Scenario stored = scenario_of(c, used);
+  return sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+}
+
+}  // namespace
+
+RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int threads, bool progress, bool overwrite,
+                        const Processes& processes) {
+  if (processes.count > 1) refuse_what_cannot_split(sc, processes.count);
+  Simulation sim = new_simulation(sc);  // bad input is reported before the folder is touched
+  if (processes.rank != 0) {
+    ObservedRun run(sc, sim);
+    follow(run, true);
+    return {};
+  }
+  for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
+  const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
+  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim) : ObservedRun(sim);
+  return execute(sc, run, out_dir, owner.run_id(), threads, progress, nullptr);
+}
+
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets,
+                      const Processes& processes) {
   namespace fs = std::filesystem;
+  if (processes.rank != 0) {  // reads the checkpoint process 0 takes (which checks it against the folder) and follows
+    fs::path used;
+    Checkpoint c = read_newest_checkpoint(fs::path(out_dir) / "checkpoint", used, {"resume", std::nullopt, false});
+    const Scenario sc = resumed_scenario(c, used, sets);
+    refuse_what_cannot_split(sc, processes.count);
+    Simulation sim = restore_simulation(sc, c, used);
+    ObservedRun run(sc, sim);
+    follow(run, false);
+    return {};
+  }
   const OutputDir owner = OutputDir::claim_existing(out_dir);
   fs::path used;
   Checkpoint c = read_newest_checkpoint(fs::path(out_dir) / "checkpoint", used);
@@ -200,13 +248,14 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
   if (c.engine_version != kVersion)
     std::fprintf(stderr, "tsubu: warning: %s was written by tsubu %s, this is %s: the continuation may differ from an uninterrupted run\n",
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
-  const Scenario stored = scenario_of(c, used);
-  const Scenario sc = sets.empty() ? stored : with_resume_overrides(stored, sets, c.step);
+  const Scenario sc = resumed_scenario(c, used, sets);
+  if (processes.count > 1) refuse_what_cannot_split(sc, processes.count);
   refuse_losing_rows(sc, c, used, out_dir);
   Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),
                static_cast<long long>(c.step), c.time);
-  return execute(sc, sim, out_dir, owner.run_id(), threads, progress, &c);
+  ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim) : ObservedRun(sim);
+  return execute(sc, run, out_dir, owner.run_id(), threads, progress, &c);
 }
 
 }  // namespace tsubu

@@ -42,14 +42,21 @@ class Interrupted : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The copies of the command an MPI launcher started (mpirun -np N; docs/parallel.md): a run
+// split among them. Process 0 writes the files; the others hold their parts and follow.
+struct Processes {
+  int count = 1, rank = 0;
+};
+
 // Runs the scenario, writing into out_dir, with checkpoints in out_dir/checkpoint as the
 // scenario's [output] asks. The folder is the run's alone (io/output_dir.hpp): a folder that
 // holds another run is refused unless `overwrite`, which clears it first. Throws
 // NumericalError (after writing run.json with the diagnostic and a last VTK frame;
 // checkpoints are left as they were) when the simulation fails, WriteError when an output
-// cannot be written, and Interrupted on SIGINT/SIGTERM.
+// cannot be written, and Interrupted on SIGINT/SIGTERM. Split among `processes` (a
+// UsageError for what cannot be split yet); on processes other than 0 the summary is empty.
 RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, int threads, bool progress,
-                        bool overwrite = false);
+                        bool overwrite = false, const Processes& processes = {});
 
 // Continues the run in out_dir from its newest valid checkpoint (older ones are tried when
 // the newest is damaged), with the scenario and overrides stored in the checkpoint; the
@@ -57,6 +64,8 @@ RunSummary run_scenario(const Scenario& scenario, const std::string& out_dir, in
 // whose outputs the folder holds (the run id of .tsubu-run). `sets` ("key=value", as --set)
 // extend or change the run where that cannot change its past: the duration, the output and
 // checkpoint intervals (others throw InputError); they are kept in the run's overrides.
-RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets = {});
+// Split among `processes` as run_scenario: the checkpoint of any number of processes resumes on any number.
+RunSummary resume_run(const std::string& out_dir, int threads, bool progress, const std::vector<std::string>& sets = {},
+                      const Processes& processes = {});
 
 }  // namespace tsubu

@@ -1,11 +1,12 @@
 #include "tsubu/ranks/communicator.hpp"
 
+#include <cstdlib>
+
 #ifdef TSUBU_HAVE_MPI
 #include <mpi.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #endif
 
@@ -71,6 +72,18 @@ Communicator& Communicator::world() {
   return c;
 }
 
+bool Communicator::started() {
+  int started = 0, finished = 0;
+  MPI_Initialized(&started);
+  MPI_Finalized(&finished);
+  return started && !finished;
+}
+
+void Communicator::end_job(int code) {
+  if (started()) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
 std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each) const {
   std::vector<int> send_counts(static_cast<std::size_t>(size_)), receive_counts(send_counts.size());
   for (std::size_t r = 0; r < send_counts.size(); ++r) send_counts[r] = count_of(to_each[r].size());
@@ -125,6 +138,8 @@ Communicator& Communicator::world() {
   return c;
 }
 
+bool Communicator::started() { return false; }
+void Communicator::end_job(int code) { std::exit(code); }
 std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each) const { return to_each; }
 std::vector<std::string> Communicator::gather(const std::string& bytes) const { return {bytes}; }
 bool Communicator::any(bool mine) const { return mine; }

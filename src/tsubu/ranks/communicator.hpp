@@ -9,8 +9,13 @@ namespace tsubu {
 
 class Communicator {
  public:
-  // The processes the run was started with (mpirun -np N), or one.
+  // The processes the run was started with (mpirun -np N), or one. Starts MPI.
   static Communicator& world();
+  // Whether world() has started MPI (and it is not finished); false in a build without MPI.
+  static bool started();
+  // Ends every process of the job at once with exit code `code` (MPI_Abort), so that none
+  // waits for ever for one that failed; without MPI started, this process (exit).
+  [[noreturn]] static void end_job(int code);
 
   int rank() const { return rank_; }
   int size() const { return size_; }

@@ -1,0 +1,71 @@
+#include "tsubu/app/observed_run.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "tsubu/core/error.hpp"
+#include "tsubu/core/stop_signal.hpp"
+#include "tsubu/scenario/result_names.hpp"
+#include "tsubu/source/build_world.hpp"
+
+namespace tsubu {
+
+void refuse_what_cannot_split(const Scenario& sc, int processes) {
+  const auto refuse = [&](const std::string& key) {
+    throw UsageError("started as " + std::to_string(processes) + " processes (mpirun): " + key +
+                     " is not yet available in a run split among processes (docs/parallel.md); run it as one "
+                     "process, with --threads for the cores of a node");
+  };
+  if (inflow_source(sc)) refuse("particles.source = \"inflow\"");
+  if (sc.fluid.hindered) refuse("fluid.hindered_settling = true");
+  if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
+  if (const int seen = Communicator::world().size(); seen != processes)
+    throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
+                     std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "
+                     "process, or build tsubu with the launcher's MPI (docs/parallel.md)");
+}
+
+ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
+  const Communicator& comm = Communicator::world();
+  const Particles& p = sim.world().particles;
+  const double reach = p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
+  if (comm.rank() == 0) {
+    mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
+    mirror_->forces().restore_counters(sim.forces().evaluations(), sim.forces().rebuilds());
+  }
+  decomposition_ = std::make_unique<Decomposition>(comm, sim.world().domain, sim.forces().skin_of(sim.world()), reach);
+  decomposition_->distribute(sim.world());
+  sim.forces().set_neighbourhood(decomposition_.get());
+}
+
+void ObservedRun::start() {
+  part_.start();
+  if (split()) gather();
+}
+
+void ObservedRun::advance() {
+  part_.step();
+  if (!mirror_) return;
+  mirror_->world().step = part_.world().step;
+  mirror_->world().time = part_.world().time;
+}
+
+int ObservedRun::agree_after_step(bool wanted) {
+  if (!split()) return g_stop_signal;
+  const Communicator& comm = Communicator::world();
+  const int signal = static_cast<int>(comm.max(g_stop_signal));  // the signal numbers are small: exact in a double
+  if (comm.any(wanted) || signal != 0) gather();
+  return signal;
+}
+
+bool ObservedRun::agree_last(bool last) { return split() ? Communicator::world().any(last && writes()) : last; }
+
+void ObservedRun::gather() {
+  Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
+  if (!mirror_) return;
+  mirror_->world() = std::move(all.world);
+  mirror_->forces().adopt_results(std::move(all.pair_results), std::move(all.wall_results));
+  mirror_->forces().restore_counters(part_.forces().evaluations(), part_.forces().rebuilds());  // this process's work
+}
+
+}  // namespace tsubu

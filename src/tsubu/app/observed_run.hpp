@@ -1,0 +1,57 @@
+// The run the observers of app/runner.cpp read (docs/parallel.md, "From the command line"):
+// one process's Simulation itself, or, for a run split among the processes an MPI launcher
+// started, a mirror on process 0 that holds the whole state gathered from every process on
+// the steps where something reads it (outputs, checkpoints, the progress report); with the
+// decisions every process must share, taken collectively after each step.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "tsubu/ranks/decomposition.hpp"
+#include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/simulation.hpp"
+
+namespace tsubu {
+
+class ObservedRun {
+ public:
+  // One process: the observers read `sim` itself.
+  explicit ObservedRun(Simulation& sim) : part_(sim) {}
+  // `sim`, the whole run on every process (built from the scenario or restored from a whole
+  // checkpoint), split among MPI's processes (refuse_what_cannot_split first): each keeps its
+  // part, and process 0 a copy of the whole as the mirror.
+  ObservedRun(const Scenario& sc, Simulation& sim);
+
+  bool split() const { return decomposition_ != nullptr; }
+  // Process 0 (or the one process): the process that writes the run's files.
+  bool writes() const { return !split() || mirror_; }
+  // What the observers read (process 0): the whole state as of the last gather, at the step
+  // and time of the last step.
+  Simulation& observed() { return mirror_ ? *mirror_ : part_; }
+
+  // A fresh run's first evaluation (Simulation::start), gathered.
+  void start();
+  // One step of this process's part.
+  void advance();
+  // After a step: whether something on process 0 reads the state now (`wanted`, process 0's
+  // say) or a stop signal arrived on any process; the whole state is then gathered. Returns
+  // the signal (0: none).
+  int agree_after_step(bool wanted);
+  // Whether the run ends here, as process 0 says.
+  bool agree_last(bool last);
+
+ private:
+  Simulation& part_;
+  std::unique_ptr<Decomposition> decomposition_;
+  std::optional<Simulation> mirror_;  // process 0 of a split run
+
+  void gather();
+};
+
+// A run split among the `processes` processes a launcher started is refused (UsageError) for
+// what the decomposition does not carry yet, naming the key (the inflow, hindered settling,
+// block steps), and when the processes are not one MPI job (a build without MPI). Starts MPI.
+void refuse_what_cannot_split(const Scenario& sc, int processes);
+
+}  // namespace tsubu

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
+of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
+resume, and a run with rolling resistance; what cannot be split yet is refused (exit 2,
+naming the key); a failure on process 1 ends the whole job with its message; process 0 of a split run with moving walls builds its lists
+about as often as one process. (tools/compare_runs.py --new-launcher compares whole runs.)
+
+    python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
+"""
+import json
+import pathlib
+import shlex
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
+SETTLE = str(ROOT / "tests/scenarios/settle_mono.toml")
+# A short poured bed with a checkpoint every 500 steps and frames.
+SETS = ["simulation.duration=0.03", "output.checkpoint_every_steps=500", "output.vtk_interval=0.01"]
+TIMEOUT = 600
+
+failures = []
+
+
+def check(ok, what):
+    print(("ok: " if ok else "FAILED: ") + what, flush=True)
+    if not ok:
+        failures.append(what)
+
+
+def tsubu_cmd(tsubu, launcher, processes, args):
+    return [*launcher, str(processes), tsubu, *args] if processes > 1 else [tsubu, *args]
+
+
+def run(tsubu, launcher, processes, args):
+    r = subprocess.run(tsubu_cmd(tsubu, launcher, processes, args), capture_output=True, text=True, timeout=TIMEOUT)
+    return r.returncode, r.stderr
+
+
+def with_sets(sets):
+    return [a for s in sets for a in ("--set", s)]
+
+
+def same_files(a, b, what):
+    """Every output and the final checkpoint's state (as tsubu export writes it: a checkpoint
+    also holds the run id and the wall-clock time) of run folders a and b."""
+    for folder in (a, b):
+        subprocess.run([sys.argv[1], "export", str(folder), "--to", str(folder / "state")], check=True, capture_output=True)
+    skip = {"run.json", ".tsubu-run", ".tsubu-lock"}
+    names = [{str(p.relative_to(f)) for p in f.rglob("*") if p.is_file() and p.name not in skip and p.suffix != ".tsbk"}
+             for f in (a, b)]
+    differ = sorted(names[0] ^ names[1]) + [n for n in sorted(names[0] & names[1]) if (a / n).read_bytes() != (b / n).read_bytes()]
+    check(not differ, f"{what}: the same bytes as one process ({len(names[0])} files{'; differ: ' + ', '.join(differ) if differ else ''})")
+
+
+def main():
+    tsubu, launcher = sys.argv[1], shlex.split(sys.argv[2])
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        alone = tmp / "alone"
+        code, err = run(tsubu, launcher, 1, ["run", SETTLE, "--out", str(alone)] + with_sets(SETS))
+        assert code == 0, err
+
+        # Three processes write checkpoints (the newest two are kept); the newest is lost; two resume.
+        three = tmp / "three"
+        code, err = run(tsubu, launcher, 3, ["run", SETTLE, "--out", str(three)] + with_sets(SETS))
+        check(code == 0, f"a run on 3 processes ends with 0 ({code}: {err[-400:]})")
+        checkpoints = sorted((three / "checkpoint").glob("step_*.tsbk"))
+        check(len(checkpoints) == 2, f"it wrote checkpoints ({len(checkpoints)})")
+        checkpoints[-1].unlink()
+        code, err = run(tsubu, launcher, 2, ["resume", str(three)])
+        check(code == 0, f"its checkpoint resumes on 2 processes ({code}: {err[-400:]})")
+        same_files(alone, three, "3 processes, resumed on 2")
+
+        # SIGINT to process 0 alone: all processes agree to stop; a checkpoint, "interrupted".
+        stopped = tmp / "stopped"
+        p = subprocess.Popen(tsubu_cmd(tsubu, launcher, 2, ["run", SETTLE, "--out", str(stopped)] + with_sets(SETS)),
+                             stderr=subprocess.PIPE, text=True)
+        while not (stopped / "series.csv").exists() or len((stopped / "series.csv").read_text().splitlines()) < 3:
+            time.sleep(0.05)
+            assert p.poll() is None, p.stderr.read()
+        rank0 = subprocess.run(["pgrep", "-P", str(p.pid), "-f", "tsubu"], capture_output=True, text=True).stdout.split()
+        subprocess.run(["kill", "-INT", min(rank0, key=int)])
+        _, err = p.communicate(timeout=TIMEOUT)
+        check(p.returncode == 4, f"SIGINT stops a run on 2 processes with 4 ({p.returncode}: {err[-400:]})")
+        check('"status": "interrupted"' in (stopped / "run.json").read_text(), "run.json says interrupted")
+        code, err = run(tsubu, launcher, 3, ["resume", str(stopped)])
+        check(code == 0, f"it resumes on 3 processes ({code}: {err[-400:]})")
+        same_files(alone, stopped, "stopped by SIGINT on 2 processes, resumed on 3")
+
+        # Rolling resistance (EPSD): its spring, a contact history slot, is handed over and
+        # gathered with the others.
+        rolling = ["contact.default.rolling=\"epsd\"", "contact.default.rolling_friction=0.1",
+                   "contact.default.rolling_damping=0.3", "output.checkpoint_every_steps=1000"]
+        for processes in (1, 2):
+            code, err = run(tsubu, launcher, processes, ["run", SETTLE, "--out", str(tmp / f"rolling{processes}")] +
+                            with_sets(SETS[:1] + rolling))
+            assert code == 0, err
+        same_files(tmp / "rolling1", tmp / "rolling2", "rolling resistance on 2 processes")
+
+        # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
+        # half the skin, not every step.
+        builds = []
+        for processes in (1, 3):
+            out = tmp / f"walls{processes}"
+            code, err = run(tsubu, launcher, processes, ["run", str(ROOT / "tests/scenarios/contact_network.toml"), "--out",
+                                                         str(out), "--set", "simulation.duration=0.05"])
+            assert code == 0, err
+            builds.append(json.loads((out / "run.json").read_text())["list_builds"])
+        check(0 < builds[1] <= 2 * builds[0], f"moving walls: {builds[1]} list builds on process 0 of 3, {builds[0]} alone")
+
+        # What a split run does not support yet, and the one-process commands.
+        for scenario, sets, key in [
+            ("tests/scenarios/inflow_small.toml", [], 'particles.source = "inflow"'),
+            ("tests/scenarios/valid_small.toml", ['fluid.density=1000', 'fluid.kinematic_viscosity=1e-6', 'fluid.hindered_settling=true'],
+             "fluid.hindered_settling = true"),
+            ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
+        ]:
+            out = tmp / "refused"
+            code, err = run(tsubu, launcher, 2, ["run", str(ROOT / scenario), "--out", str(out)] + with_sets(sets))
+            check(code == 2 and key in err and not out.exists(), f"{key} is refused on 2 processes ({code}: {err[-400:]})")
+        code, err = run(tsubu, launcher, 2, ["check", SETTLE])
+        check(code == 2 and "`tsubu check` runs as one process" in err, f"check is refused ({code}: {err[-300:]})")
+        code, err = run(tsubu, launcher, 2, ["export", str(alone)])
+        check(code == 2 and "`tsubu export` runs as one process" in err, f"export is refused ({code}: {err[-300:]})")
+
+        # A grain leaves the box through the top, in process 1's half: the whole job ends.
+        started = time.monotonic()
+        code, err = run(tsubu, launcher, 2, ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--out",
+                                             str(tmp / "lost"), "--set", "simulation.gravity=[0, 0, 1000]"])
+        check(code == 3 and "tsubu: process 1: numerical failure: " in err and "left the domain" in err,
+              f"a failure on process 1 ends the job with 3 and its message in {time.monotonic() - started:.0f} s "
+              f"({code}: {err[-600:]})")
+    if failures:
+        sys.exit(f"{len(failures)} failed")
+
+
+if __name__ == "__main__":
+    main()
