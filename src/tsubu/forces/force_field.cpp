@@ -46,8 +46,6 @@ void ForceField::admit_new_particles(Particles& p) {
 void ForceField::compute(World& world, double fluid_lead) {
   if (neighbourhood_ && neighbourhood_->update(world)) built_at_.clear();
   admit_new_particles(world.particles);
-  shifts_ = model_->laws.corrects_positions();
-  rolls_ = model_->laws.resists_rolling();
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);
   evaluate_walls(world);

@@ -99,7 +99,11 @@ class ForceField {
   static constexpr std::size_t kBlock = 32;
 
   // The physics the field evaluates; `model` must outlive the field.
-  explicit ForceField(const Model& model) : model_(&model), without_rates_(model.laws.without_rates()) {}
+  explicit ForceField(const Model& model)
+      : model_(&model),
+        without_rates_(model.laws.without_rates()),
+        shifts_(model.laws.corrects_positions()),
+        rolls_(model.laws.resists_rolling()) {}
   const Model& model() const { return *model_; }
 
   // Evaluates every touching contact and sums forces and torques (with gravity) into
