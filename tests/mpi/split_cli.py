@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
 of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
-resume, and a run with rolling resistance; what cannot be split yet is refused (exit 2,
-naming the key); a failure on process 1 ends the whole job with its message; process 0 of a split run with moving walls builds its lists
-about as often as one process. (tools/compare_runs.py --new-launcher compares whole runs.)
+resume, runs with rolling resistance (also on a grid given by `[parallel] counts`) and a run
+with hindered settling; what cannot be split yet, or counts that fit no grid, is refused
+(exit 2, naming the key); a failure on process 1 ends the whole job with its message;
+process 0 of a split run with moving walls builds its lists about as often as one process.
+(tools/compare_runs.py --new-launcher compares whole runs.)
 
     python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
 """
@@ -44,12 +46,12 @@ def with_sets(sets):
     return [a for s in sets for a in ("--set", s)]
 
 
-def same_files(a, b, what):
+def same_files(a, b, what, also_skip=()):
     """Every output and the final checkpoint's state (as tsubu export writes it: a checkpoint
-    also holds the run id and the wall-clock time) of run folders a and b."""
+    also holds the run id and the wall-clock time) of run folders a and b, but `also_skip`."""
     for folder in (a, b):
         subprocess.run([sys.argv[1], "export", str(folder), "--to", str(folder / "state")], check=True, capture_output=True)
-    skip = {"run.json", ".tsubu-run", ".tsubu-lock"}
+    skip = {"run.json", ".tsubu-run", ".tsubu-lock", *also_skip}
     names = [{str(p.relative_to(f)) for p in f.rglob("*") if p.is_file() and p.name not in skip and p.suffix != ".tsbk"}
              for f in (a, b)]
     differ = sorted(names[0] ^ names[1]) + [n for n in sorted(names[0] & names[1]) if (a / n).read_bytes() != (b / n).read_bytes()]
@@ -100,6 +102,20 @@ def main():
                             with_sets(SETS[:1] + rolling))
             assert code == 0, err
         same_files(tmp / "rolling1", tmp / "rolling2", "rolling resistance on 2 processes")
+        # The box cut across y ([parallel] counts) rather than along z (the automatic grid).
+        code, err = run(tsubu, launcher, 2, ["run", SETTLE, "--out", str(tmp / "rolling_y")] +
+                        with_sets(SETS[:1] + rolling + ["parallel.counts=[0, 2, 0]"]))
+        assert code == 0, err
+        same_files(tmp / "rolling1", tmp / "rolling_y", "rolling resistance on 2 processes cut across y",
+                   also_skip={"overrides.txt"})  # the state's record of the --set values: one more here
+
+        # Hindered settling: the solid fraction around a grain counts grains across the cuts.
+        hindered = ["fluid.density=1000", "fluid.kinematic_viscosity=1e-6", "fluid.hindered_settling=true"]
+        for processes in (1, 2):
+            code, err = run(tsubu, launcher, processes, ["run", SETTLE, "--out", str(tmp / f"hindered{processes}")] +
+                            with_sets(SETS + hindered))
+            assert code == 0, err
+        same_files(tmp / "hindered1", tmp / "hindered2", "hindered settling on 2 processes")
 
         # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
         # half the skin, not every step.
@@ -115,9 +131,9 @@ def main():
         # What a split run does not support yet, and the one-process commands.
         for scenario, sets, key in [
             ("tests/scenarios/inflow_small.toml", [], 'particles.source = "inflow"'),
-            ("tests/scenarios/valid_small.toml", ['fluid.density=1000', 'fluid.kinematic_viscosity=1e-6', 'fluid.hindered_settling=true'],
-             "fluid.hindered_settling = true"),
             ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
+            ("tests/scenarios/settle_mono.toml", ["parallel.counts=[2, 2, 1]"],
+             "parallel.counts: no grid of 2 subdomains (mpirun -np 2) has 2 x 2 x 1"),
         ]:
             out = tmp / "refused"
             code, err = run(tsubu, launcher, 2, ["run", str(ROOT / scenario), "--out", str(out)] + with_sets(sets))

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -63,11 +62,10 @@ void expect_same_bits(const Case& c) {
   const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/" + c.scenario, c.overrides);
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
   Simulation split(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
-  const Particles& p = split.world().particles;
   Domain cut = split.world().domain;
   if (c.grid_top > 0) cut.upper.z = c.grid_top;
-  Decomposition decomposition(comm, cut, split.forces().skin_of(split.world()),
-                              *std::max_element(p.radius.begin(), p.radius.end()), c.counts);
+  Decomposition decomposition(comm, cut, split.forces().skin_of(split.world()), split.forces().interaction_reach(split.world()),
+                              c.counts);
   decomposition.distribute(split.world());
   split.forces().set_neighbourhood(&decomposition);
   split.start();
@@ -134,6 +132,17 @@ TEST(Decomposition, APolydisperseBedKeepsTheBitsOnBothSearches) {
   expect_same_bits({"tests/scenarios/poly_search.toml", {"search.method=\"cell\""}, {n, 1, 1}});
 }
 
+// The poured bed in water with hindered settling, cut through its height: each grain's drag
+// reads the solid fraction in a ball of 3 radii around it, whose grains lie up to 4 r_max
+// away, across the cuts (the ghost layer is as wide as that reach, not only the contacts').
+TEST(Decomposition, HinderedSettlingKeepsTheBits) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/settle_mono.toml",
+                    {"simulation.duration=0.04", "fluid.density=1000", "fluid.kinematic_viscosity=1e-6",
+                     "fluid.hindered_settling=true"},
+                    {1, 1, n}});
+}
+
 // A checkpoint's bytes of a run at its current step (the force counters, which count each
 // process's own evaluations, left out).
 std::string checkpoint_bytes(const Scenario& sc, Simulation& sim) {
@@ -157,11 +166,10 @@ TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
       load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/settle_mono.toml", {"simulation.duration=0.1"});
   const std::int64_t steps = std::llround(sc.duration / sc.dt), half = steps / 2;
   const auto split_among_processes = [&](Simulation& sim) {
-    const Particles& p = sim.world().particles;
     Domain cut = sim.world().domain;
     cut.upper.z = 0.02;
     auto d = std::make_unique<Decomposition>(comm, cut, sim.forces().skin_of(sim.world()),
-                                             *std::max_element(p.radius.begin(), p.radius.end()), std::array{1, 1, n});
+                                             sim.forces().interaction_reach(sim.world()), std::array{1, 1, n});
     d->distribute(sim.world());
     sim.forces().set_neighbourhood(d.get());
     return d;

@@ -57,8 +57,8 @@ TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
 
 // Copies started by an MPI launcher split `run` and `resume` among them (tests/mpi/split_cli.py);
 // `check` and `export` are one process's work, and a run the decomposition cannot carry yet
-// (here the inflow) is refused, before MPI starts and before the folder is touched. One copy
-// says why.
+// (here the inflow), or [parallel] counts that fit no grid of their number, is refused, before
+// MPI starts and before the folder is touched. One copy says why.
 TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
   TempDir dir;
   const fs::path out = dir.path() / "out", log = dir.path() / "log";
@@ -67,7 +67,9 @@ TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
       {{"check", kValidSmall}, "error: started as 3 processes (mpirun): `tsubu check` runs as one process"},
       {{"export", out.string()}, "error: started as 3 processes (mpirun): `tsubu export` runs as one process"},
       {{"run", inflow, "--out", out.string()},
-       "error: started as 3 processes (mpirun): particles.source = \"inflow\" is not yet available in a run split"}};
+       "error: started as 3 processes (mpirun): particles.source = \"inflow\" is not yet available in a run split"},
+      {{"run", kValidSmall, "--out", out.string(), "--set", "parallel.counts=[2, 2, 1]"},
+       "--set parallel.counts=[2, 2, 1]:1: parallel.counts: no grid of 3 subdomains (mpirun -np 3) has 2 x 2 x 1: "}};
   for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}})
     for (const auto& [args, message] : refused) {
       const auto copy = [&](const char* r) { return run(args, log, [&] { setenv(size, "3", 1), setenv(rank, r, 1); }); };

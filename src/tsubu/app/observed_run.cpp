@@ -1,6 +1,5 @@
 #include "tsubu/app/observed_run.hpp"
 
-#include <algorithm>
 #include <string>
 
 #include "tsubu/core/error.hpp"
@@ -16,8 +15,15 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
                      " is not yet available in a run split among processes (docs/parallel.md); run it as one "
                      "process, with --threads for the cores of a node");
   };
+  if (!RankGrid::fits(sc.parallel.counts, processes)) {
+    const auto& c = sc.parallel.counts;
+    throw InputError(sc.parallel.where, "no grid of " + std::to_string(processes) + " subdomains (mpirun -np " +
+                                            std::to_string(processes) + ") has " + std::to_string(c[0]) + " x " +
+                                            std::to_string(c[1]) + " x " + std::to_string(c[2]) +
+                                            ": give counts whose product is the number of processes, 0 along an axis for "
+                                            "an automatic count, or start as many processes as the counts make");
+  }
   if (inflow_source(sc)) refuse("particles.source = \"inflow\"");
-  if (sc.fluid.hindered) refuse("fluid.hindered_settling = true");
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
@@ -27,13 +33,12 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
 
 ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
   const Communicator& comm = Communicator::world();
-  const Particles& p = sim.world().particles;
-  const double reach = p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
   if (comm.rank() == 0) {
     mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
     mirror_->forces().restore_counters(sim.forces().evaluations(), sim.forces().rebuilds());
   }
-  decomposition_ = std::make_unique<Decomposition>(comm, sim.world().domain, sim.forces().skin_of(sim.world()), reach);
+  decomposition_ = std::make_unique<Decomposition>(comm, sim.world().domain, sim.forces().skin_of(sim.world()),
+                                                   sim.forces().interaction_reach(sim.world()), sc.parallel.counts);
   decomposition_->distribute(sim.world());
   sim.forces().set_neighbourhood(decomposition_.get());
 }

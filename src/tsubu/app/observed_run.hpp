@@ -50,8 +50,10 @@ class ObservedRun {
 };
 
 // A run split among the `processes` processes a launcher started is refused (UsageError) for
-// what the decomposition does not carry yet, naming the key (the inflow, hindered settling,
-// block steps), and when the processes are not one MPI job (a build without MPI). Starts MPI.
+// what the decomposition does not carry yet, naming the key (the inflow, block
+// steps), and when the processes are not one MPI job (a build without MPI); an
+// InputError when no grid of that many subdomains has the scenario's parallel.counts.
+// Starts MPI.
 void refuse_what_cannot_split(const Scenario& sc, int processes);
 
 }  // namespace tsubu

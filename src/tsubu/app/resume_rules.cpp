@@ -15,10 +15,11 @@ namespace tsubu {
 
 namespace {
 
-// The keys a resume may set: none changes a step already taken or an output already written.
-constexpr std::array<std::string_view, 6> kResumeKeys = {
-    "simulation.duration",   "output.series_interval",         "output.vtk_interval",
-    "output.track_interval", "output.checkpoint_every_steps", "output.checkpoint_every_seconds"};
+// The keys a resume may set: none changes a step already taken or an output already written
+// (nor any bit of one: the grid of subdomains of a split run changes none).
+constexpr std::array<std::string_view, 7> kResumeKeys = {
+    "simulation.duration",           "output.series_interval",          "output.vtk_interval", "output.track_interval",
+    "output.checkpoint_every_steps", "output.checkpoint_every_seconds", "parallel.counts"};
 
 }  // namespace
 
@@ -36,7 +37,8 @@ Scenario with_resume_overrides(const Scenario& run, const std::vector<std::strin
       throw InputError("--set " + set, 1, key_of(set),
                        "cannot change on resume: it could change the steps already taken or the outputs already "
                        "written; a resume may set simulation.duration, output.series_interval, output.vtk_interval, "
-                       "output.track_interval, output.checkpoint_every_steps and output.checkpoint_every_seconds");
+                       "output.track_interval, output.checkpoint_every_steps, output.checkpoint_every_seconds and "
+                       "parallel.counts");
   std::vector<std::string> pins;
   auto pin = [&](const char* key, double was, double now) {
     char text[64];

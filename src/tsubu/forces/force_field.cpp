@@ -83,6 +83,13 @@ double ForceField::skin_of(const World& world) const {
   return 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
 }
 
+double ForceField::interaction_reach(const World& world) const {
+  const Particles& p = world.particles;
+  const double r_max = p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
+  const bool crowds = model_->fluid.enabled && model_->fluid.hindered;
+  return (crowds ? model_->fluid.hindered_ball_ratio + 1 : 2.0) * r_max;
+}
+
 void ForceField::rebuild(World& world) {
   const Particles& p = world.particles;
   skin_ = skin_of(world);

@@ -171,6 +171,10 @@ class ForceField {
   double skin() const { return skin_; }
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;
+  // The largest distance between the centres of two particles of `world` that act on each
+  // other: 2 r_max for contacts, (c + 1) r_max where hindered settling measures the solid
+  // fraction in a ball of c radii around each grain (CrowdList).
+  double interaction_reach(const World& world) const;
 
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).

@@ -124,7 +124,7 @@ std::vector<ContactLink> links_of(const World& world) {
 
 Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
                              std::array<int, 3> counts)
-    : comm_(comm), grid_(domain, comm.size(), counts), skin_(skin), width_(2 * reach + skin) {}
+    : comm_(comm), grid_(domain, comm.size(), counts), skin_(skin), width_(reach + skin) {}
 
 void Decomposition::distribute(World& world) {
   world.ghosts = 0;

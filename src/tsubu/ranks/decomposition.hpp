@@ -35,7 +35,8 @@ struct ContactLink {
 class Decomposition final : public Neighbourhood {
  public:
   // `skin`: the neighbour-list margin of the run (the same on every process), `reach`: the
-  // largest particle radius.
+  // largest distance between two centres that act on each other
+  // (ForceField::interaction_reach).
   // `counts`: the grid of subdomains (RankGrid), automatic when zero.
   Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
                 std::array<int, 3> counts = {0, 0, 0});

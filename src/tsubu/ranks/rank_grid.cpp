@@ -9,25 +9,35 @@
 namespace tsubu {
 
 RankGrid::RankGrid(const Domain& domain, int processes, std::array<int, 3> counts) : domain_(domain) {
-  if (counts[0] > 0) {
-    if (counts[0] * counts[1] * counts[2] != processes)
-      throw std::invalid_argument("the grid of subdomains " + std::to_string(counts[0]) + " x " + std::to_string(counts[1]) +
-                                  " x " + std::to_string(counts[2]) + " does not match " + std::to_string(processes) +
-                                  " processes");
-    counts_ = counts;
-    return;
-  }
+  if (!fits(counts, processes))
+    throw std::invalid_argument("the grid of subdomains " + std::to_string(counts[0]) + " x " + std::to_string(counts[1]) +
+                                " x " + std::to_string(counts[2]) + " does not match " + std::to_string(processes) +
+                                " processes");
   double least = std::numeric_limits<double>::infinity();
   for (int x = 1; x <= processes; ++x) {
     if (processes % x != 0) continue;
     for (int y = 1; y <= processes / x; ++y) {
       if ((processes / x) % y != 0) continue;
-      const int z = processes / x / y;
-      const double a = domain.length(0) / x, b = domain.length(1) / y, c = domain.length(2) / z;
-      const double surface = a * b + b * c + c * a;
-      if (surface < least * (1 - 1e-12)) least = surface, counts_ = {x, y, z};
+      const std::array<int, 3> c{x, y, processes / x / y};
+      if (!matches(c, counts)) continue;
+      const double a = domain.length(0) / c[0], b = domain.length(1) / c[1], h = domain.length(2) / c[2];
+      const double surface = a * b + b * h + h * a;
+      if (surface < least * (1 - 1e-12)) least = surface, counts_ = c;
     }
   }
+}
+
+bool RankGrid::matches(const std::array<int, 3>& grid, const std::array<int, 3>& counts) {
+  for (std::size_t a = 0; a < 3; ++a)
+    if (counts[a] != 0 && counts[a] != grid[a]) return false;
+  return true;
+}
+
+bool RankGrid::fits(const std::array<int, 3>& counts, int processes) {
+  for (int x = 1; x <= processes; ++x)
+    for (int y = 1; x * y <= processes; ++y)
+      if (processes % (x * y) == 0 && matches({x, y, processes / x / y}, counts)) return true;
+  return false;
 }
 
 int RankGrid::cell(int axis, double x) const {

@@ -24,6 +24,7 @@ namespace {
 // A scenario is a few KiB; the cap ends the read of an endless source (/dev/zero, a pipe)
 // with an error instead of exhausting memory.
 constexpr std::size_t kMaxScenarioBytes = 16 << 20;
+constexpr std::int64_t kMaxSubdomains = 1 << 16;  // along one axis: far beyond any machine
 
 std::string read_text(const std::string& path) {
   if (std::filesystem::is_directory(path)) throw InputError(path, 0, "", "is a folder; give the scenario file (TOML)");
@@ -711,6 +712,19 @@ void read_search(Section s, Scenario& sc) {
   s.finish();
 }
 
+void read_parallel(Section s, Scenario& sc) {
+  const std::vector<std::int64_t> counts = s.integers("counts", {0, 0, 0});
+  if (counts.size() != 3) s.fail("counts", "must be three integers (subdomains along x, y and z), got " + std::to_string(counts.size()));
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (counts[a] < 0 || counts[a] > kMaxSubdomains)
+      s.fail("counts", "allowed 0 (an automatic count along the axis) or 1 to " + std::to_string(kMaxSubdomains) +
+                           " subdomains along each axis, got " + std::to_string(counts[a]));
+    sc.parallel.counts[a] = static_cast<int>(counts[a]);
+  }
+  sc.parallel.where = s.where("counts");
+  s.finish();
+}
+
 }  // namespace
 
 AnalysisSpec load_analysis_text(const Scenario& sc, const std::string& text, const std::string& origin) {
@@ -767,6 +781,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   for (Section a : top.tables("analyses")) read_analysis(a, sc);
   for (Section st : top.tables("stop")) read_stop(st, sc);
   if (auto s = top.table("search")) read_search(*s, sc);
+  if (auto p = top.table("parallel")) read_parallel(*p, sc);
   top.finish();
   return sc;
 }

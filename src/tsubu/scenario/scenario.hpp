@@ -1,5 +1,6 @@
 // A validated scenario: plain data, every value checked, every name resolved to an index.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -86,6 +87,12 @@ struct StopSpec {
   bool after_inflow = false;  // not checked before the inflow has released its last grain (its mass_limit)
 };
 
+// [parallel]: how a run split among processes (mpirun -np N, N > 1) cuts its box.
+struct ParallelSpec {
+  std::array<int, 3> counts{0, 0, 0};  // subdomains along x, y, z; 0: an automatic count (RankGrid)
+  SourceLocation where;                // parallel.counts, checked against the number of processes at the start
+};
+
 struct Scenario {
   std::string file, name;
   std::uint64_t hash = 0;  // FNV-1a of the scenario text and overrides
@@ -112,6 +119,7 @@ struct Scenario {
   std::vector<AnalysisSpec> analyses;  // in the order of the file
   std::vector<StopSpec> stops;         // [[stop]]
   SearchSpec search{SearchSpec::Method::cell, 0, 1000};  // [search]: contact search method, spatial sort every 1000 steps
+  ParallelSpec parallel;
 };
 
 // Reads and validates a scenario. `overrides` are "key.path=value" strings (TOML values)
