@@ -46,9 +46,9 @@ CASES = [
     ("search_multilevel", "tests/scenarios/poly_search.toml", []),
     ("search_cell", "tests/scenarios/poly_search.toml", ['search.method="cell"']),
 ]
-# The cases a run split among processes supports (no inflow, hindered settling or block steps).
-SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "moving_walls", "hysteresis_piston", "search_multilevel",
-          "search_cell"}
+# The cases a run split among processes supports (no block steps).
+SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "inflow", "hindered_settling", "moving_walls",
+          "hysteresis_piston", "search_multilevel", "search_cell"}
 # Every case writes frames and a final checkpoint.
 COMMON = ["output.vtk_interval=0.01"]
 # run.json keys that count the work of the process that writes run.json, in a split run.

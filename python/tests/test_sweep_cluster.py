@@ -342,3 +342,20 @@ def test_mpi_pool_runs_the_grid_and_resumes_after_ctrl_c(mpi, tmp_path):
     reference = write_sweep(tmp_path / "ref.toml", tmp_path / "ref", grid=ONE, set={"simulation.duration": 3.0})
     assert sweep(reference).returncode == 0
     same_outputs(case, tmp_path / "ref" / CASES[0])
+
+
+@pytest.mark.skipif(not shutil.which("mpirun"), reason="no mpirun (Debian's openmpi-bin)")
+def test_a_case_of_two_ranks_runs_split_with_the_files_of_one(tmp_path):
+    """ranks = 2: the local runner starts the case as `mpirun -np 2 tsubu run ...`, which splits
+    it among two processes (docs/parallel.md): the same outputs and results as one rank."""
+    env = {**ENV, "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1"}  # root on a machine of two cores
+    for name, ranks in (("one", 1), ("two", 2)):
+        file = write_sweep(tmp_path / f"{name}.toml", tmp_path / name, grid=ONE, ranks=ranks,
+                           set={"parallel.counts": [2, 1, 1]})  # cut across the deposit (one process: not read)
+        done = sweep_in(env, tmp_path, file)
+        assert done.returncode == 0, done.stdout + done.stderr
+    same_outputs(tmp_path / "one" / CASES[0], tmp_path / "two" / CASES[0])
+    # Split: run.json counts the contacts process 0 evaluated, its part of the run's.
+    work = [json.loads((tmp_path / name / CASES[0] / "run.json").read_text())["contact_evaluations"] for name in ("one", "two")]
+    assert 0 < work[1] < work[0]

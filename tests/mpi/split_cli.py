@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
 of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
-resume, runs with rolling resistance (also on a grid given by `[parallel] counts`) and a run
-with hindered settling; what cannot be split yet, or counts that fit no grid, is refused
+resume, runs with rolling resistance (also on a grid given by `[parallel] counts`), a run
+with hindered settling and an inflow (3 processes, resumed on 2); what cannot be split yet, or counts that fit no grid, is refused
 (exit 2, naming the key); a failure on process 1 ends the whole job with its message;
 process 0 of a split run with moving walls builds its lists about as often as one process.
 (tools/compare_runs.py --new-launcher compares whole runs.)
@@ -20,6 +20,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 SETTLE = str(ROOT / "tests/scenarios/settle_mono.toml")
+INFLOW = str(ROOT / "tests/scenarios/inflow_small.toml")
 # A short poured bed with a checkpoint every 500 steps and frames.
 SETS = ["simulation.duration=0.03", "output.checkpoint_every_steps=500", "output.vtk_interval=0.01"]
 TIMEOUT = 600
@@ -117,6 +118,18 @@ def main():
             assert code == 0, err
         same_files(tmp / "hindered1", tmp / "hindered2", "hindered settling on 2 processes")
 
+        # The inflow: every process admits the same grains; its stream's state is checkpointed.
+        # Three processes, their newest checkpoint lost, resumed on two.
+        for processes in (1, 3):
+            code, err = run(tsubu, launcher, processes, ["run", INFLOW, "--out", str(tmp / f"inflow{processes}")] +
+                            with_sets(["simulation.duration=0.15", "output.checkpoint_every_steps=2000"]))
+            assert code == 0, err
+        checkpoints = sorted((tmp / "inflow3" / "checkpoint").glob("step_*.tsbk"))
+        checkpoints[-1].unlink()
+        code, err = run(tsubu, launcher, 2, ["resume", str(tmp / "inflow3")])
+        check(code == 0, f"an inflow's checkpoint of 3 processes resumes on 2 ({code}: {err[-400:]})")
+        same_files(tmp / "inflow1", tmp / "inflow3", "the inflow on 3 processes, resumed on 2")
+
         # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
         # half the skin, not every step.
         builds = []
@@ -130,7 +143,6 @@ def main():
 
         # What a split run does not support yet, and the one-process commands.
         for scenario, sets, key in [
-            ("tests/scenarios/inflow_small.toml", [], 'particles.source = "inflow"'),
             ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
             ("tests/scenarios/settle_mono.toml", ["parallel.counts=[2, 2, 1]"],
              "parallel.counts: no grid of 2 subdomains (mpirun -np 2) has 2 x 2 x 1"),

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
+#include "tsubu/app/observed_run.hpp"
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/io/contact_network.hpp"
 #include "tsubu/ranks/decomposition.hpp"
@@ -61,13 +62,11 @@ void expect_same_bits(const Case& c) {
   const Communicator& comm = Communicator::world();
   const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/" + c.scenario, c.overrides);
   const std::int64_t steps = std::llround(sc.duration / sc.dt);
-  Simulation split(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+  Simulation split = new_simulation(sc);  // with the scenario's inflow
   Domain cut = split.world().domain;
   if (c.grid_top > 0) cut.upper.z = c.grid_top;
-  Decomposition decomposition(comm, cut, split.forces().skin_of(split.world()), split.forces().interaction_reach(split.world()),
-                              c.counts);
-  decomposition.distribute(split.world());
-  split.forces().set_neighbourhood(&decomposition);
+  const std::unique_ptr<Decomposition> split_run = split_among_processes(comm, split, cut, c.counts);
+  const Decomposition& decomposition = *split_run;
   split.start();
   split.advance_to(steps);
   const bool ghosts = comm.any(split.world().ghosts > 0);
@@ -81,7 +80,7 @@ void expect_same_bits(const Case& c) {
     EXPECT_TRUE(ghosts) << "no process held a copy of another's particle";
     EXPECT_GT(decomposition.arrangements(), 2u) << "the particles were never handed over";
   }
-  Simulation alone(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+  Simulation alone = new_simulation(sc);
   alone.start();
   alone.advance_to(steps);
   // A split run builds its lists at most about as often as one process: at its hand-overs
@@ -143,6 +142,22 @@ TEST(Decomposition, HinderedSettlingKeepsTheBits) {
                     {1, 1, n}});
 }
 
+// Grains rain from the inflow into water onto a deposit, cut through its height, and (with
+// hindered settling) enter a box cut across x; grains delayed at a crowded entry: every
+// process admits the same grains (the entry plane's verdicts agreed among the processes) and
+// keeps those in its subdomain; with hindered settling too.
+TEST(Decomposition, TheInflowKeepsTheBits) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/inflow_small.toml", {"simulation.duration=0.3"}, {1, 1, n}, 0.01});  // cut through the deposit
+  // A floor just below the entry plane: grains rest where the next ones would enter, which
+  // wait (delayed) until their place is free; the box cut across x.
+  expect_same_bits({"tests/scenarios/inflow_small.toml",
+                    {"simulation.duration=0.1", "walls=[{point=[0, 0, 0.0275], normal=[0, 0, 1], material=\"quartz\"}]"},
+                    {n, 1, 1}});
+  expect_same_bits({"tests/scenarios/sediment_inflow.toml",
+                    {"simulation.duration=0.02", "simulation.dt=1e-6", "fluid.hindered_settling=true"}, {n, 1, 1}});
+}
+
 // A checkpoint's bytes of a run at its current step (the force counters, which count each
 // process's own evaluations, left out).
 std::string checkpoint_bytes(const Scenario& sc, Simulation& sim) {
@@ -165,14 +180,10 @@ TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
   const Scenario sc =
       load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/settle_mono.toml", {"simulation.duration=0.1"});
   const std::int64_t steps = std::llround(sc.duration / sc.dt), half = steps / 2;
-  const auto split_among_processes = [&](Simulation& sim) {
+  const auto split_run = [&](Simulation& sim) {
     Domain cut = sim.world().domain;
     cut.upper.z = 0.02;
-    auto d = std::make_unique<Decomposition>(comm, cut, sim.forces().skin_of(sim.world()),
-                                             sim.forces().interaction_reach(sim.world()), std::array{1, 1, n});
-    d->distribute(sim.world());
-    sim.forces().set_neighbourhood(d.get());
-    return d;
+    return split_among_processes(comm, sim, cut, std::array{1, 1, n});
   };
   Simulation alone = new_simulation(sc);  // on every process: each reads the checkpoint whole
   alone.start();
@@ -180,7 +191,7 @@ TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
   const std::string checkpoint = checkpoint_bytes(sc, alone);
 
   Simulation split = new_simulation(sc);
-  const auto first = split_among_processes(split);
+  const auto first = split_run(split);
   split.start();
   split.advance_to(half);
   Decomposition::Gathered at_half = first->gathered(split.world(), split.forces());
@@ -191,7 +202,7 @@ TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
 
   Checkpoint c = decode_checkpoint(checkpoint);
   Simulation resumed = restore_simulation(sc, c, "checkpoint");
-  const auto second = split_among_processes(resumed);
+  const auto second = split_run(resumed);
   resumed.advance_to(steps);
   Decomposition::Gathered end = second->gathered(resumed.world(), resumed.forces());
   alone.advance_to(steps);

@@ -57,17 +57,18 @@ TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
 
 // Copies started by an MPI launcher split `run` and `resume` among them (tests/mpi/split_cli.py);
 // `check` and `export` are one process's work, and a run the decomposition cannot carry yet
-// (here the inflow), or [parallel] counts that fit no grid of their number, is refused, before
+// (here block steps), or [parallel] counts that fit no grid of their number, is refused, before
 // MPI starts and before the folder is touched. One copy says why.
 TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
   TempDir dir;
   const fs::path out = dir.path() / "out", log = dir.path() / "log";
-  const std::string inflow = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "inflow_small.toml").string();
+  const std::string block = (fs::path(TSUBU_SOURCE_DIR) / "tests" / "scenarios" / "block_threads.toml").string();
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"check", kValidSmall}, "error: started as 3 processes (mpirun): `tsubu check` runs as one process"},
       {{"export", out.string()}, "error: started as 3 processes (mpirun): `tsubu export` runs as one process"},
-      {{"run", inflow, "--out", out.string()},
-       "error: started as 3 processes (mpirun): particles.source = \"inflow\" is not yet available in a run split"},
+      {{"run", block, "--out", out.string()},
+       "error: started as 3 processes (mpirun): simulation.integrator = \"block_hermite\" is not yet available in a run "
+       "split"},
       {{"run", kValidSmall, "--out", out.string(), "--set", "parallel.counts=[2, 2, 1]"},
        "--set parallel.counts=[2, 2, 1]:1: parallel.counts: no grid of 3 subdomains (mpirun -np 3) has 2 x 2 x 1: "}};
   for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}})

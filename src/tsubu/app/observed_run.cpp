@@ -23,7 +23,6 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
                                             ": give counts whose product is the number of processes, 0 along an axis for "
                                             "an automatic count, or start as many processes as the counts make");
   }
-  if (inflow_source(sc)) refuse("particles.source = \"inflow\"");
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
@@ -37,10 +36,17 @@ ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
     mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
     mirror_->forces().restore_counters(sim.forces().evaluations(), sim.forces().rebuilds());
   }
-  decomposition_ = std::make_unique<Decomposition>(comm, sim.world().domain, sim.forces().skin_of(sim.world()),
-                                                   sim.forces().interaction_reach(sim.world()), sc.parallel.counts);
-  decomposition_->distribute(sim.world());
-  sim.forces().set_neighbourhood(decomposition_.get());
+  decomposition_ = split_among_processes(comm, sim, sim.world().domain, sc.parallel.counts);
+}
+
+std::unique_ptr<Decomposition> split_among_processes(const Communicator& comm, Simulation& sim, const Domain& cut,
+                                                     std::array<int, 3> counts) {
+  const auto [smallest, largest] = sim.radius_range();  // the inflow's grains included
+  auto d = std::make_unique<Decomposition>(comm, cut, sim.forces().skin_for(smallest), sim.forces().reach_per_radius(),
+                                           largest, counts);
+  d->distribute(sim.world());
+  sim.forces().set_neighbourhood(d.get());
+  return d;
 }
 
 void ObservedRun::start() {
@@ -69,6 +75,7 @@ void ObservedRun::gather() {
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
   if (!mirror_) return;
   mirror_->world() = std::move(all.world);
+  if (const InflowFeed* inflow = part_.inflow()) mirror_->feed(*inflow);  // every process's stream is alike
   mirror_->forces().adopt_results(std::move(all.pair_results), std::move(all.wall_results));
   mirror_->forces().restore_counters(part_.forces().evaluations(), part_.forces().rebuilds());  // this process's work
 }

@@ -4,6 +4,7 @@
 // the steps where something reads it (outputs, checkpoints, the progress report); with the
 // decisions every process must share, taken collectively after each step.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -49,11 +50,18 @@ class ObservedRun {
   void gather();
 };
 
+// Splits `sim`, the whole run on every process, among comm's processes on a grid of `cut`
+// (the run's box, or for tests a part of it) with `counts` (RankGrid): each keeps its part,
+// and sim's force field reads the others' particles through the Decomposition returned,
+// which must outlive it. The ghost layer and the hand-overs follow from the particles' and
+// the inflow's smallest and largest grains.
+std::unique_ptr<Decomposition> split_among_processes(const Communicator& comm, Simulation& sim, const Domain& cut,
+                                                     std::array<int, 3> counts);
+
 // A run split among the `processes` processes a launcher started is refused (UsageError) for
-// what the decomposition does not carry yet, naming the key (the inflow, block
-// steps), and when the processes are not one MPI job (a build without MPI); an
-// InputError when no grid of that many subdomains has the scenario's parallel.counts.
-// Starts MPI.
+// what the decomposition does not carry yet, naming the key (block steps), and when the
+// processes are not one MPI job (a build without MPI); an InputError when no grid of that
+// many subdomains has the scenario's parallel.counts. Starts MPI.
 void refuse_what_cannot_split(const Scenario& sc, int processes);
 
 }  // namespace tsubu

@@ -43,6 +43,16 @@ void ForceField::admit_new_particles(Particles& p) {
   admitted_ = p.size();
 }
 
+void ForceField::welcome(Particles& p, std::size_t first) const {
+  for (std::size_t i = first; i < p.size(); ++i) {
+    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * p.radius[i]);
+    const BodyLoad body = body_load(p, i, 0, kLone);
+    p.force[i] = body.force;
+    p.torque[i] = body.torque;
+    p.contact_count[i] = 0;
+  }
+}
+
 void ForceField::compute(World& world, double fluid_lead) {
   if (neighbourhood_ && neighbourhood_->update(world)) built_at_.clear();
   admit_new_particles(world.particles);
@@ -80,14 +90,11 @@ bool ForceField::needs_rebuild(const World& world) const {
 double ForceField::skin_of(const World& world) const {
   const Particles& p = world.particles;
   if (model_->skin > 0 || p.size() == 0) return model_->skin;
-  return 0.2 * *std::min_element(p.radius.begin(), p.radius.end());
+  return skin_for(*std::min_element(p.radius.begin(), p.radius.end()));
 }
 
-double ForceField::interaction_reach(const World& world) const {
-  const Particles& p = world.particles;
-  const double r_max = p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
-  const bool crowds = model_->fluid.enabled && model_->fluid.hindered;
-  return (crowds ? model_->fluid.hindered_ball_ratio + 1 : 2.0) * r_max;
+double ForceField::reach_per_radius() const {
+  return model_->fluid.enabled && model_->fluid.hindered ? model_->fluid.hindered_ball_ratio + 1 : 2.0;
 }
 
 void ForceField::rebuild(World& world) {

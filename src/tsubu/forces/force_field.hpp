@@ -88,6 +88,12 @@ class Neighbourhood {
   // rearranges the particles among the processes; true when it did (the lists must be
   // built again).
   virtual bool update(World& world) = 0;
+  // The elementwise "or" of `flags` over the processes (the same length on each).
+  virtual void agree_any(std::vector<char>& flags) const = 0;
+  // `arrivals`, the same particles on every process (grains that join the run between
+  // steps, ForceField::welcome'd), join it: each process takes those in its subdomain and the
+  // particles are arranged again (the next update returns true).
+  virtual void add(World& world, Particles arrivals) = 0;
 };
 
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,
@@ -143,6 +149,10 @@ class ForceField {
   // and compute_active() call it first; whoever adds particles between steps calls it
   // before the next kick.
   void admit_new_particles(Particles& p);
+  // Grains that join a run between steps, those of `p` from `first` on: their translational
+  // mass, and as their force and torque the body load of a lone grain (no contact yet;
+  // fluid_lead 0), which the next kick reads; no contacts.
+  void welcome(Particles& p, std::size_t first) const;
   // The body forces on particle i of `p`: gravity m g and the still fluid's buoyancy, drag
   // and lift with their torque (Model::fluid; none without a fluid), the drag hindered by
   // the crowding the last evaluation found (a grain that joined since: lone). The fluid's
@@ -152,11 +162,14 @@ class ForceField {
   // fluid_lead 0). Inlined: the fixed-step gather calls it for every particle at every step,
   // and a dry bed reads nothing of the fluid's.
   [[gnu::always_inline]] BodyLoad body_load(const Particles& p, std::size_t i, double fluid_lead) const {
+    return body_load(p, i, fluid_lead, crowding(i));
+  }
+  [[gnu::always_inline]] BodyLoad body_load(const Particles& p, std::size_t i, double fluid_lead, const Crowding& crowd) const {
     BodyLoad body{p.mass[i] * model_->gravity, {}};
     if (!model_->fluid.enabled) return body;
     Vec3 u = p.velocity[i], w = p.omega[i];
     if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-    const FluidLoad fl = fluid_load(model_->fluid, 2 * p.radius[i], model_->gravity, u, w, crowding(i));
+    const FluidLoad fl = fluid_load(model_->fluid, 2 * p.radius[i], model_->gravity, u, w, crowd);
     body.force += fl.force;
     body.torque = fl.torque;
     return body;
@@ -168,13 +181,16 @@ class ForceField {
   // processes' particles before every evaluation; null for a run in one process.
   void set_neighbourhood(Neighbourhood* n) { neighbourhood_ = n; }
   bool distributed() const { return neighbourhood_ != nullptr; }
+  Neighbourhood* neighbourhood() const { return neighbourhood_; }
   double skin() const { return skin_; }
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;
-  // The largest distance between the centres of two particles of `world` that act on each
-  // other: 2 r_max for contacts, (c + 1) r_max where hindered settling measures the solid
-  // fraction in a ball of c radii around each grain (CrowdList).
-  double interaction_reach(const World& world) const;
+  // The neighbour-list margin for particles whose smallest radius is `smallest_radius`.
+  double skin_for(double smallest_radius) const { return model_->skin > 0 ? model_->skin : 0.2 * smallest_radius; }
+  // The largest distance between the centres of two particles that act on each other, in
+  // units of the largest radius: 2 for contacts, c + 1 where hindered settling measures the
+  // solid fraction in a ball of c radii around each grain (CrowdList).
+  double reach_per_radius() const;
 
   // Contacts, elastic energy and largest overlap of the last evaluation (a pass over all
   // contacts: call it for output, not every step).

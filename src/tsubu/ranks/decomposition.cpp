@@ -5,6 +5,7 @@
 #include <tuple>
 #include <type_traits>
 #include <unordered_map>
+#include <utility>
 
 #include "tsubu/world/spatial_sort.hpp"
 
@@ -122,9 +123,14 @@ std::vector<ContactLink> links_of(const World& world) {
 
 }  // namespace
 
-Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
-                             std::array<int, 3> counts)
-    : comm_(comm), grid_(domain, comm.size(), counts), skin_(skin), width_(reach + skin) {}
+Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach_per_radius,
+                             double largest_radius, std::array<int, 3> counts)
+    : comm_(comm),
+      grid_(domain, comm.size(), counts),
+      skin_(skin),
+      reach_per_radius_(reach_per_radius),
+      largest_radius_(largest_radius),
+      width_(reach_per_radius * largest_radius + skin) {}
 
 void Decomposition::distribute(World& world) {
   world.ghosts = 0;
@@ -194,9 +200,32 @@ bool Decomposition::update(World& world) {
   bool moved = false;
   for (std::size_t i = 0; i < world.owned() && !moved; ++i)
     moved = norm2(world.domain.separation(p.position[i], arranged_at_[i])) > limit2;
-  if (!comm_.any(moved)) return false;
+  const bool added = std::exchange(added_, false);  // the same on every process
+  if (!comm_.any(moved)) return added;
+  hand_over(world, {});
+  return true;
+}
+
+void Decomposition::agree_any(std::vector<char>& flags) const {
+  const std::vector<std::string> all = comm_.exchange(std::vector<std::string>(
+      static_cast<std::size_t>(comm_.size()), std::string(flags.begin(), flags.end())));
+  for (const std::string& theirs : all)
+    for (std::size_t k = 0; k < flags.size(); ++k) flags[k] = flags[k] || theirs.at(k);
+}
+
+void Decomposition::add(World& world, Particles arrivals) {
+  for (double r : arrivals.radius) largest_radius_ = std::max(largest_radius_, r);  // alike on every process
+  width_ = reach_per_radius_ * largest_radius_ + skin_;
+  refresh_ghosts(world);  // the partners' owners below are read from the ghosts' positions
+  hand_over(world, arrivals);
+  added_ = true;
+}
+
+void Decomposition::hand_over(World& world, const Particles& arrivals) {
+  const Particles& p = world.particles;
   // Every owned particle goes to the process of its subdomain (itself, mostly), with the
   // touching contacts of each of its particles: their histories are this process's to give.
+  // Each process takes the arrivals in its subdomain.
   const std::size_t processes = static_cast<std::size_t>(comm_.size());
   std::vector<Parcel> parcels(processes);
   std::vector<int> owner(p.size());
@@ -206,6 +235,9 @@ bool Decomposition::update(World& world) {
     pack(p, i, to.particles);
     ++to.particle_count;
   }
+  Parcel& mine = parcels[static_cast<std::size_t>(comm_.rank())];
+  for (std::size_t i = 0; i < arrivals.size(); ++i)
+    if (grid_.owner(arrivals.position[i]) == comm_.rank()) pack(arrivals, i, mine.particles), ++mine.particle_count;
   std::unordered_map<std::int64_t, std::size_t> index;
   for (std::size_t i = 0; i < p.size(); ++i) index.emplace(p.id[i], i);
   for (const ContactLink& l : links_of(world)) {
@@ -226,7 +258,6 @@ bool Decomposition::update(World& world) {
   for (const std::string& bytes : received)
     read_parcel(bytes, owned, [&](const std::string& b, std::size_t& at) { links.push_back(take<ContactLink>(b, at)); });
   arrange(world, std::move(owned), std::move(links));
-  return true;
 }
 
 Decomposition::Gathered Decomposition::gathered(const World& world, const ForceField& forces) const {

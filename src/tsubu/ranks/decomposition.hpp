@@ -34,12 +34,13 @@ struct ContactLink {
 
 class Decomposition final : public Neighbourhood {
  public:
-  // `skin`: the neighbour-list margin of the run (the same on every process), `reach`: the
-  // largest distance between two centres that act on each other
-  // (ForceField::interaction_reach).
+  // `skin`: the margin of the hand-overs (the same on every process; a particle is handed
+  // over once it has moved half of it); two particles act on each other up to
+  // `reach_per_radius` times the largest radius apart (ForceField::reach_per_radius), the
+  // largest radius being `largest_radius` or that of a larger grain added since (add).
   // `counts`: the grid of subdomains (RankGrid), automatic when zero.
-  Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach,
-                std::array<int, 3> counts = {0, 0, 0});
+  Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach_per_radius,
+                double largest_radius, std::array<int, 3> counts = {0, 0, 0});
 
   const RankGrid& grid() const { return grid_; }
   // How often the particles were arranged among the processes (distribute included).
@@ -49,6 +50,8 @@ class Decomposition final : public Neighbourhood {
   void distribute(World& world);
   // Neighbourhood: before each evaluation.
   bool update(World& world) override;
+  void agree_any(std::vector<char>& flags) const override;
+  void add(World& world, Particles arrivals) override;
   // The owned particles and their touching contacts of every process, on process 0, as one
   // world: particles in the order of their ids, contacts as a checkpoint stores them, with
   // the results of their last evaluation (`forces`'s) for the world's lists, which a force
@@ -63,16 +66,21 @@ class Decomposition final : public Neighbourhood {
  private:
   const Communicator& comm_;
   RankGrid grid_;
-  double skin_, width_;  // the ghost layer's width
+  double skin_, reach_per_radius_, largest_radius_;
+  double width_;  // the ghost layer's: reach_per_radius_ largest_radius_ + skin_
   std::vector<Vec3> arranged_at_;  // the owned particles' positions at the last arrangement
   std::vector<std::vector<std::uint32_t>> sent_;  // per process, the owned particles it has copies of
   std::vector<std::size_t> received_from_;        // per process, where its copies begin in world.particles
   std::size_t arrangements_ = 0;
+  bool added_ = false;  // particles were added since the last update
 
   // Settles `owned` (this process's particles, any order) and `links` (touching contacts of
   // them, possibly repeated) as the world's particles and lists, with new ghosts.
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
   void refresh_ghosts(World& world);
+  // Hands every owned particle, with its touching contacts, to the process of its subdomain,
+  // and this process's `arrivals` to itself; then arranges.
+  void hand_over(World& world, const Particles& arrivals);
 };
 
 }  // namespace tsubu

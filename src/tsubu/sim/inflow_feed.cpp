@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "tsubu/core/exact_sum.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
@@ -11,11 +12,15 @@ InflowFeed::InflowFeed(const Scenario& sc, const ParticleSource& src, std::int64
 
 void InflowFeed::admit(World& w) { admit_due(stream_, w.time, w.domain, w.particles, material_, first_id_); }
 
+void InflowFeed::admit(const World& w, Particles& arrivals, const OverlapAgreement& agree) {
+  admit_due(stream_, w.time, w.domain, w.particles, w.owned(), arrivals, material_, first_id_, agree);
+}
+
 double InflowFeed::mass_entered(const World& w) const {
-  double mass = 0;
+  ExactSum mass;  // the same bits in any order of the particles (a split run's, a sorted run's)
   for (std::size_t i = 0; i < w.particles.size(); ++i)
     if (w.particles.id[i] >= first_id_) mass += w.particles.mass[i];
-  return mass;
+  return mass.value();
 }
 
 namespace {

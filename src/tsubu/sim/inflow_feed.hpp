@@ -23,8 +23,13 @@ class InflowFeed {
   // The grains due at w's time are appended to its particles (those that find their place
   // taken wait); between steps only (at multiples of dt).
   void admit(World& w);
+  // The same in a run split among processes: w's own particles are looked at, `agree`
+  // makes their verdicts every process's (admit_due), and the grains that enter are appended
+  // to `arrivals`, the same on every process.
+  void admit(const World& w, Particles& arrivals, const OverlapAgreement& agree);
 
   std::int64_t first_id() const { return first_id_; }
+  const InflowColumn& column() const { return stream_.column(); }
   // The stream has released its last grain (its mass limit reached, none waiting).
   bool ended() const { return stream_.exhausted(); }
   // The mass of the inflow's grains in the box (kg).

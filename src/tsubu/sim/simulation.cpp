@@ -1,5 +1,7 @@
 #include "tsubu/sim/simulation.hpp"
 
+#include <algorithm>
+
 #include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
@@ -44,6 +46,14 @@ void Simulation::renumber() {
 
 void Simulation::admit_inflow() {
   if (!inflow_) return;
+  if (Neighbourhood* split = forces_.neighbourhood()) {  // every process admits the same grains
+    Particles arrivals;
+    inflow_->admit(world_, arrivals, [split](std::vector<char>& taken) { split->agree_any(taken); });
+    if (arrivals.size() == 0) return;
+    forces_.welcome(arrivals, 0);
+    split->add(world_, std::move(arrivals));
+    return;
+  }
   const std::size_t first = world_.particles.size();
   inflow_->admit(world_);
   if (world_.particles.size() > first) particles_added(first);
@@ -58,14 +68,20 @@ void Simulation::particles_added(std::size_t first) {
     block_->particles_added(world_, forces_, first);
     return;
   }
-  Particles& p = world_.particles;
-  forces_.admit_new_particles(p);
-  for (std::size_t i = first; i < p.size(); ++i) {
-    const BodyLoad body = forces_.body_load(p, i, 0);
-    p.force[i] = body.force;
-    p.torque[i] = body.torque;
-    p.contact_count[i] = 0;
+  forces_.admit_new_particles(world_.particles);
+  forces_.welcome(world_.particles, first);
+}
+
+std::pair<double, double> Simulation::radius_range() const {
+  const std::vector<double>& r = world_.particles.radius;
+  double smallest = r.empty() ? 0.0 : *std::min_element(r.begin(), r.end());
+  double largest = r.empty() ? 0.0 : *std::max_element(r.begin(), r.end());
+  if (inflow_) {
+    const SizeDistribution& sizes = inflow_->column().sizes;
+    smallest = r.empty() ? 0.5 * sizes.smallest() : std::min(smallest, 0.5 * sizes.smallest());
+    largest = std::max(largest, 0.5 * sizes.largest());
   }
+  return {smallest, largest};
 }
 
 std::uint64_t Simulation::particle_force_evaluations() const {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
@@ -50,6 +51,10 @@ class Simulation {
   // The block-step integrator, or null for fixed steps.
   BlockHermite* block() { return block_.get(); }
   const BlockHermite* block() const { return block_.get(); }
+
+  // The smallest and the largest radius of the particles, and of the grains the inflow can
+  // release ({0, 0} for none).
+  std::pair<double, double> radius_range() const;
 
   // Single-particle force evaluations so far: particles x (steps + 1) for fixed steps, the
   // sum of the active sets for block steps.

@@ -249,28 +249,38 @@ SphereGrid entry_neighbours(const Domain& domain, std::span<const Vec3> position
   return grid;
 }
 
-Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
-                    std::int64_t first_id) {
+Admission admit_due(InflowStream& stream, double t, const Domain& domain, const Particles& present, std::size_t seen,
+                    Particles& into, int material, std::int64_t first_id, const OverlapAgreement& agree) {
   Admission a;
   const std::vector<NewGrain> due = stream.due(t);
   if (due.empty()) return a;
   const InflowColumn& c = stream.column();
   double lowest = c.entry_height;
   for (const NewGrain& g : due) lowest = std::min(lowest, stream.position(g, t).z);
-  SphereGrid grid = entry_neighbours(domain, particles.position, particles.radius, lowest, 0.5 * c.sizes.largest());
-  for (const NewGrain& g : due) {
+  SphereGrid grid = entry_neighbours(domain, std::span(present.position).first(seen), std::span(present.radius).first(seen),
+                                     lowest, 0.5 * c.sizes.largest());
+  std::vector<char> taken(due.size());  // its place holds a particle already there
+  for (std::size_t k = 0; k < due.size(); ++k) taken[k] = grid.overlaps(stream.position(due[k], t), 0.5 * due[k].diameter);
+  if (agree) agree(taken);
+  for (std::size_t k = 0; k < due.size(); ++k) {
+    const NewGrain& g = due[k];
     const Vec3 x = stream.position(g, t);
-    if (grid.overlaps(x, 0.5 * g.diameter)) {
+    if (taken[k] || grid.overlaps(x, 0.5 * g.diameter)) {  // or one inserted just before it
       stream.delay(g);
       ++a.delayed;
       continue;
     }
     grid.add(x, 0.5 * g.diameter);
-    particles.add(first_id + g.serial, material, g.diameter, c.density, x, stream.velocity());
-    particles.omega.back() = g.omega;
+    into.add(first_id + g.serial, material, g.diameter, c.density, x, stream.velocity());
+    into.omega.back() = g.omega;
     ++a.entered;
   }
   return a;
+}
+
+Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
+                    std::int64_t first_id) {
+  return admit_due(stream, t, domain, particles, particles.size(), particles, material, first_id, {});
 }
 
 }  // namespace tsubu

@@ -17,6 +17,7 @@
 // kept with the probability (target - volume so far)/its volume.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -149,5 +150,13 @@ struct Admission {
 // sides; only the particles near the entry plane are looked at.
 Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
                     std::int64_t first_id);
+// The same, in a run split among processes: only the first `seen` particles of `present` (a
+// process's own) are looked at, and `agree` makes "the place of due grain k is taken" (one
+// flag each, in the order of due()) that of any process (an elementwise or), so that every
+// process admits the same grains and leaves the stream in the same state; the grains that
+// enter are appended to `into`.
+using OverlapAgreement = std::function<void(std::vector<char>& taken)>;
+Admission admit_due(InflowStream& stream, double t, const Domain& domain, const Particles& present, std::size_t seen,
+                    Particles& into, int material, std::int64_t first_id, const OverlapAgreement& agree);
 
 }  // namespace tsubu
