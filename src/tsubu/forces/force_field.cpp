@@ -38,14 +38,23 @@ void ForceField::renumbered(const World& world) {
   built_at_.clear();
 }
 
+namespace {
+
+// m + C_M rho_f V (Particles::translational_mass).
+double translational_mass_of(const Particles& p, std::size_t i, const Fluid& fluid) {
+  return p.mass[i] + fluid.added_mass_of(2 * p.radius[i]);
+}
+
+}  // namespace
+
 void ForceField::admit_new_particles(Particles& p) {
-  for (std::size_t i = admitted_; i < p.size(); ++i) p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * p.radius[i]);
+  for (std::size_t i = admitted_; i < p.size(); ++i) p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
   admitted_ = p.size();
 }
 
 void ForceField::welcome(Particles& p, std::size_t first) const {
   for (std::size_t i = first; i < p.size(); ++i) {
-    p.translational_mass[i] = p.mass[i] + model_->fluid.added_mass_of(2 * p.radius[i]);
+    p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
     const BodyLoad body = body_load(p, i, 0, kLone);
     p.force[i] = body.force;
     p.torque[i] = body.torque;
@@ -89,8 +98,7 @@ bool ForceField::needs_rebuild(const World& world) const {
 
 double ForceField::skin_of(const World& world) const {
   const Particles& p = world.particles;
-  if (model_->skin > 0 || p.size() == 0) return model_->skin;
-  return skin_for(*std::min_element(p.radius.begin(), p.radius.end()));
+  return p.size() == 0 ? model_->skin : skin_for(*std::min_element(p.radius.begin(), p.radius.end()));
 }
 
 double ForceField::reach_per_radius() const {

@@ -8,23 +8,30 @@
 
 namespace tsubu {
 
+namespace {
+
+// Every grid of `processes` subdomains (x * y * z = processes), x, then y, ascending.
+template <class F>
+void for_each_grid(int processes, const F& f) {
+  for (int x = 1; x <= processes; ++x)
+    for (int y = 1; x * y <= processes; ++y)
+      if (processes % (x * y) == 0) f(std::array<int, 3>{x, y, processes / (x * y)});
+}
+
+}  // namespace
+
 RankGrid::RankGrid(const Domain& domain, int processes, std::array<int, 3> counts) : domain_(domain) {
   if (!fits(counts, processes))
     throw std::invalid_argument("the grid of subdomains " + std::to_string(counts[0]) + " x " + std::to_string(counts[1]) +
                                 " x " + std::to_string(counts[2]) + " does not match " + std::to_string(processes) +
                                 " processes");
   double least = std::numeric_limits<double>::infinity();
-  for (int x = 1; x <= processes; ++x) {
-    if (processes % x != 0) continue;
-    for (int y = 1; y <= processes / x; ++y) {
-      if ((processes / x) % y != 0) continue;
-      const std::array<int, 3> c{x, y, processes / x / y};
-      if (!matches(c, counts)) continue;
-      const double a = domain.length(0) / c[0], b = domain.length(1) / c[1], h = domain.length(2) / c[2];
-      const double surface = a * b + b * h + h * a;
-      if (surface < least * (1 - 1e-12)) least = surface, counts_ = c;
-    }
-  }
+  for_each_grid(processes, [&](const std::array<int, 3>& c) {
+    if (!matches(c, counts)) return;
+    const double a = domain.length(0) / c[0], b = domain.length(1) / c[1], h = domain.length(2) / c[2];
+    const double surface = a * b + b * h + h * a;
+    if (surface < least * (1 - 1e-12)) least = surface, counts_ = c;
+  });
 }
 
 bool RankGrid::matches(const std::array<int, 3>& grid, const std::array<int, 3>& counts) {
@@ -34,10 +41,9 @@ bool RankGrid::matches(const std::array<int, 3>& grid, const std::array<int, 3>&
 }
 
 bool RankGrid::fits(const std::array<int, 3>& counts, int processes) {
-  for (int x = 1; x <= processes; ++x)
-    for (int y = 1; x * y <= processes; ++y)
-      if (processes % (x * y) == 0 && matches({x, y, processes / x / y}, counts)) return true;
-  return false;
+  bool any = false;
+  for_each_grid(processes, [&](const std::array<int, 3>& c) { any = any || matches(c, counts); });
+  return any;
 }
 
 int RankGrid::cell(int axis, double x) const {
