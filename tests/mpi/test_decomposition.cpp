@@ -55,6 +55,7 @@ struct Case {
   std::vector<std::string> overrides;
   std::array<int, 3> counts{};  // the grid of subdomains; automatic when zero
   double grid_top = 0;          // > 0: the grid spans the box only up to this height (the bed)
+  bool balance = true;          // the cuts follow the work ([parallel] balance)
 };
 
 // The scenario run to its end split among all processes and, on process 0, alone.
@@ -65,7 +66,7 @@ void expect_same_bits(const Case& c) {
   Simulation split = new_simulation(sc);  // with the scenario's inflow
   Domain cut = split.world().domain;
   if (c.grid_top > 0) cut.upper.z = c.grid_top;
-  const std::unique_ptr<Decomposition> split_run = split_among_processes(comm, split, cut, c.counts);
+  const std::unique_ptr<Decomposition> split_run = split_among_processes(comm, split, cut, ParallelSpec{c.counts, c.balance});
   const Decomposition& decomposition = *split_run;
   split.start();
   split.advance_to(steps);
@@ -101,6 +102,27 @@ void expect_same_bits(const Case& c) {
 TEST(Decomposition, APouredBedCutThroughItsHeight) {
   const int n = Communicator::world().size();
   expect_same_bits({"tests/scenarios/settle_mono.toml", {"simulation.duration=0.1"}, {1, 1, n}, 0.02});
+}
+
+// Grains poured from the lowest quarter of the box only, cut through the height of the whole
+// box: the cuts follow the work down into the grains. The grains poured from the whole box on
+// the even cuts of [parallel] balance = "none" give the same bits too.
+TEST(Decomposition, CutsThatFollowTheWorkKeepTheBits) {
+  const Communicator& comm = Communicator::world();
+  const int n = comm.size();
+  for (const bool balance : {true, false}) {
+    std::vector<std::string> overrides = {"simulation.duration=0.05"};
+    if (balance) overrides.push_back("particles.0.upper=[0.016, 0.016, 0.04]");
+    expect_same_bits({"tests/scenarios/settle_mono.toml", overrides, {1, 1, n}, 0, balance});
+    const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/settle_mono.toml", overrides);
+    Simulation sim = new_simulation(sc);
+    const auto split = split_among_processes(comm, sim, sim.world().domain, ParallelSpec{{1, 1, n}, balance});
+    const std::vector<double>& cuts = split->grid().cuts(2);
+    for (int s = 1; s < n; ++s) {
+      if (balance) EXPECT_LT(cuts[static_cast<std::size_t>(s)], 0.04) << "cut " << s << " did not move into the grains";
+      else EXPECT_NEAR(cuts[static_cast<std::size_t>(s)], 0.16 * s / n, 1e-12) << "balance = \"none\" moved cut " << s;
+    }
+  }
 }
 
 // The bed cut across its periodic sides (2 x 2 x 1, or n x 1 x 1): ghosts across the periodic
@@ -183,7 +205,7 @@ TEST(Decomposition, ACheckpointOfASplitRunResumesOnAnyNumberOfProcesses) {
   const auto split_run = [&](Simulation& sim) {
     Domain cut = sim.world().domain;
     cut.upper.z = 0.02;
-    return split_among_processes(comm, sim, cut, std::array{1, 1, n});
+    return split_among_processes(comm, sim, cut, ParallelSpec{{1, 1, n}});
   };
   Simulation alone = new_simulation(sc);  // on every process: each reads the checkpoint whole
   alone.start();

@@ -36,14 +36,14 @@ ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
     mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
     mirror_->forces().restore_counters(sim.forces().evaluations(), sim.forces().rebuilds());
   }
-  decomposition_ = split_among_processes(comm, sim, sim.world().domain, sc.parallel.counts);
+  decomposition_ = split_among_processes(comm, sim, sim.world().domain, sc.parallel);
 }
 
 std::unique_ptr<Decomposition> split_among_processes(const Communicator& comm, Simulation& sim, const Domain& cut,
-                                                     std::array<int, 3> counts) {
+                                                     const ParallelSpec& parallel) {
   const auto [smallest, largest] = sim.radius_range();  // the inflow's grains included
   auto d = std::make_unique<Decomposition>(comm, cut, sim.forces().skin_for(smallest), sim.forces().reach_per_radius(),
-                                           largest, counts);
+                                           largest, parallel.counts, parallel.balance);
   d->distribute(sim.world());
   sim.forces().set_neighbourhood(d.get());
   return d;

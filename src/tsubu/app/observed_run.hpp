@@ -51,12 +51,12 @@ class ObservedRun {
 };
 
 // Splits `sim`, the whole run on every process, among comm's processes on a grid of `cut`
-// (the run's box, or for tests a part of it) with `counts` (RankGrid): each keeps its part,
+// (the run's box, or for tests a part of it) as `parallel` says (RankGrid): each keeps its part,
 // and sim's force field reads the others' particles through the Decomposition returned,
 // which must outlive it. The ghost layer and the hand-overs follow from the particles' and
 // the inflow's smallest and largest grains.
 std::unique_ptr<Decomposition> split_among_processes(const Communicator& comm, Simulation& sim, const Domain& cut,
-                                                     std::array<int, 3> counts);
+                                                     const ParallelSpec& parallel);
 
 // A run split among the `processes` processes a launcher started is refused (UsageError) for
 // what the decomposition does not carry yet, naming the key (block steps), and when the

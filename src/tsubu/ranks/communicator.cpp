@@ -131,6 +131,15 @@ double Communicator::min(double mine) const {
   return out;
 }
 
+std::vector<std::int64_t> Communicator::sum(std::vector<std::int64_t> mine) const {
+  MPI_Allreduce(MPI_IN_PLACE, mine.data(), count_of(mine.size()), MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  return mine;
+}
+
+void Communicator::any_each(std::vector<char>& flags) const {
+  MPI_Allreduce(MPI_IN_PLACE, flags.data(), count_of(flags.size()), MPI_UNSIGNED_CHAR, MPI_BOR, MPI_COMM_WORLD);
+}
+
 #else  // one process
 
 Communicator& Communicator::world() {
@@ -145,6 +154,8 @@ std::vector<std::string> Communicator::gather(const std::string& bytes) const { 
 bool Communicator::any(bool mine) const { return mine; }
 double Communicator::max(double mine) const { return mine; }
 double Communicator::min(double mine) const { return mine; }
+std::vector<std::int64_t> Communicator::sum(std::vector<std::int64_t> mine) const { return mine; }
+void Communicator::any_each(std::vector<char>&) const {}
 
 #endif
 

@@ -2,6 +2,7 @@
 // on byte buffers: MPI's world communicator in a build with MPI (TSUBU_HAVE_MPI), one
 // process otherwise. docs/parallel.md.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,10 @@ class Communicator {
   bool any(bool mine) const;
   double max(double mine) const;
   double min(double mine) const;
+  // Elementwise over the processes (every process passes as many): the sums (exact, in any
+  // order) and the logical or (each flag 0 or 1).
+  std::vector<std::int64_t> sum(std::vector<std::int64_t> mine) const;
+  void any_each(std::vector<char>& flags) const;
 
  private:
   Communicator(int rank, int size) : rank_(rank), size_(size) {}

@@ -124,16 +124,44 @@ std::vector<ContactLink> links_of(const World& world) {
 }  // namespace
 
 Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach_per_radius,
-                             double largest_radius, std::array<int, 3> counts)
+                             double largest_radius, std::array<int, 3> counts, bool balance)
     : comm_(comm),
       grid_(domain, comm.size(), counts),
       skin_(skin),
       reach_per_radius_(reach_per_radius),
       largest_radius_(largest_radius),
-      width_(reach_per_radius * largest_radius + skin) {}
+      width_(reach_per_radius * largest_radius + skin),
+      balance_(balance) {}
+
+void Decomposition::rebalance(const World& world, bool whole) {
+  if (!balance_ || comm_.size() == 1) return;
+  const Particles& p = world.particles;
+  const std::size_t owned = world.owned();
+  std::vector<std::int64_t> work(owned, 1);
+  for (const Contact& c : world.contacts.pairs()) {
+    if (c.i < owned) ++work[c.i];
+    if (c.j < owned) ++work[c.j];
+  }
+  std::vector<std::int64_t> bins;  // the bins of the three axes, one after another
+  for (int a = 0; a < 3; ++a) {
+    const std::size_t first = bins.size();
+    bins.resize(first + static_cast<std::size_t>(grid_.bins(a)), 0);
+    for (std::size_t i = 0; i < owned; ++i) bins[first + static_cast<std::size_t>(grid_.bin(a, p.position[i][a]))] += work[i];
+  }
+  if (!whole) bins = comm_.sum(std::move(bins));
+  std::array<std::vector<std::int64_t>, 3> per_axis;
+  auto first = bins.begin();
+  for (int a = 0; a < 3; ++a) {
+    const auto last = first + grid_.bins(a);
+    per_axis[static_cast<std::size_t>(a)].assign(first, last);
+    first = last;
+  }
+  grid_.balance(per_axis);
+}
 
 void Decomposition::distribute(World& world) {
   world.ghosts = 0;
+  rebalance(world, true);
   std::vector<ContactLink> links = links_of(world);  // all of them: this process holds the whole world
   const Particles& p = world.particles;
   std::string bytes;
@@ -206,12 +234,7 @@ bool Decomposition::update(World& world) {
   return true;
 }
 
-void Decomposition::agree_any(std::vector<char>& flags) const {
-  const std::vector<std::string> all = comm_.exchange(std::vector<std::string>(
-      static_cast<std::size_t>(comm_.size()), std::string(flags.begin(), flags.end())));
-  for (const std::string& theirs : all)
-    for (std::size_t k = 0; k < flags.size(); ++k) flags[k] = flags[k] || theirs.at(k);
-}
+void Decomposition::agree_any(std::vector<char>& flags) const { comm_.any_each(flags); }
 
 void Decomposition::add(World& world, Particles arrivals) {
   for (double r : arrivals.radius) largest_radius_ = std::max(largest_radius_, r);  // alike on every process
@@ -222,6 +245,7 @@ void Decomposition::add(World& world, Particles arrivals) {
 }
 
 void Decomposition::hand_over(World& world, const Particles& arrivals) {
+  rebalance(world, false);
   const Particles& p = world.particles;
   // Every owned particle goes to the process of its subdomain (itself, mostly), with the
   // touching contacts of each of its particles: their histories are this process's to give.

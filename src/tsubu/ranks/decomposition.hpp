@@ -38,9 +38,12 @@ class Decomposition final : public Neighbourhood {
   // over once it has moved half of it); two particles act on each other up to
   // `reach_per_radius` times the largest radius apart (ForceField::reach_per_radius), the
   // largest radius being `largest_radius` or that of a larger grain added since (add).
-  // `counts`: the grid of subdomains (RankGrid), automatic when zero.
+  // `counts`: the grid of subdomains (RankGrid), automatic when zero. `balance`: the cuts
+  // follow the work at every arrangement (each slab between two cuts of an axis holds an
+  // equal share of it: a particle's work is one plus the pairs of its list), or stay evenly
+  // spaced.
   Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach_per_radius,
-                double largest_radius, std::array<int, 3> counts = {0, 0, 0});
+                double largest_radius, std::array<int, 3> counts = {0, 0, 0}, bool balance = true);
 
   const RankGrid& grid() const { return grid_; }
   // How often the particles were arranged among the processes (distribute included).
@@ -73,11 +76,15 @@ class Decomposition final : public Neighbourhood {
   std::vector<std::size_t> received_from_;        // per process, where its copies begin in world.particles
   std::size_t arrangements_ = 0;
   bool added_ = false;  // particles were added since the last update
+  bool balance_;
 
   // Settles `owned` (this process's particles, any order) and `links` (touching contacts of
   // them, possibly repeated) as the world's particles and lists, with new ghosts.
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
   void refresh_ghosts(World& world);
+  // Moves the grid's cuts to the work of the world's particles: of all of them when every
+  // process holds the whole world (`whole`), else of every process's owned particles.
+  void rebalance(const World& world, bool whole);
   // Hands every owned particle, with its touching contacts, to the process of its subdomain,
   // and this process's `arrivals` to itself; then arranges.
   void hand_over(World& world, const Particles& arrivals);

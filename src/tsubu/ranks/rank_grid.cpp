@@ -32,6 +32,9 @@ RankGrid::RankGrid(const Domain& domain, int processes, std::array<int, 3> count
     const double surface = a * b + b * h + h * a;
     if (surface < least * (1 - 1e-12)) least = surface, counts_ = c;
   });
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c <= counts_[static_cast<std::size_t>(a)]; ++c)
+      cuts_[static_cast<std::size_t>(a)].push_back(bin_edge(a, c * kBinsPerSlab));
 }
 
 bool RankGrid::matches(const std::array<int, 3>& grid, const std::array<int, 3>& counts) {
@@ -46,9 +49,39 @@ bool RankGrid::fits(const std::array<int, 3>& counts, int processes) {
   return any;
 }
 
+double RankGrid::bin_edge(int axis, int edge) const {
+  return edge == bins(axis) ? domain_.upper[axis] : domain_.lower[axis] + domain_.length(axis) * edge / bins(axis);
+}
+
+int RankGrid::bin(int axis, double x) const {
+  const double t = (x - domain_.lower[axis]) / domain_.length(axis) * bins(axis);
+  return static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(bins(axis) - 1)));
+}
+
 int RankGrid::cell(int axis, double x) const {
-  const double t = (x - domain_.lower[axis]) / domain_.length(axis) * counts_[static_cast<std::size_t>(axis)];
-  return static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(counts_[static_cast<std::size_t>(axis)] - 1)));
+  // The inner cuts at or below x; a position on a cut belongs to the slab above it.
+  const std::vector<double>& c = cuts_[static_cast<std::size_t>(axis)];
+  return static_cast<int>(std::upper_bound(c.begin() + 1, c.end() - 1, x) - (c.begin() + 1));
+}
+
+void RankGrid::balance(const std::array<std::vector<std::int64_t>, 3>& work) {
+  for (int a = 0; a < 3; ++a) {
+    const std::size_t k = static_cast<std::size_t>(a);
+    const std::int64_t slabs = counts_[k];
+    const std::vector<std::int64_t>& w = work[k];
+    std::int64_t total = 0;
+    for (std::int64_t v : w) total += v;
+    if (slabs == 1 || total == 0) continue;
+    // Cut s at the first bin edge below which lies s / slabs of the work, at least one bin
+    // above the cut before it and leaving a bin for each slab above.
+    std::int64_t below = 0;
+    int edge = 0;
+    for (std::int64_t s = 1; s < slabs; ++s) {
+      const int lowest = edge + 1, highest = bins(a) - static_cast<int>(slabs - s);
+      while (edge < lowest || (edge < highest && below * slabs < total * s)) below += w[static_cast<std::size_t>(edge++)];
+      cuts_[k][static_cast<std::size_t>(s)] = bin_edge(a, edge);
+    }
+  }
 }
 
 int RankGrid::owner(const Vec3& x) const { return rank_of({cell(0, x.x), cell(1, x.y), cell(2, x.z)}); }
@@ -58,9 +91,9 @@ void RankGrid::near(const Vec3& x, double width, int skip, std::vector<int>& out
   std::array<std::vector<int>, 3> cells;  // per axis, the cells whose widened interval holds x
   for (int a = 0; a < 3; ++a) {
     const std::size_t k = static_cast<std::size_t>(a);
-    const double L = domain_.length(a), size = L / counts_[k];
+    const double L = domain_.length(a);
     for (int c = 0; c < counts_[k]; ++c) {
-      const double lo = domain_.lower[a] + c * size - width, hi = domain_.lower[a] + (c + 1) * size + width;
+      const double lo = cuts_[k][static_cast<std::size_t>(c)] - width, hi = cuts_[k][static_cast<std::size_t>(c) + 1] + width;
       bool in = x[a] >= lo && x[a] <= hi;
       if (domain_.periodic[k]) in = in || (x[a] + L >= lo && x[a] + L <= hi) || (x[a] - L >= lo && x[a] - L <= hi);
       else if (c == 0) in = in || x[a] < lo;  // outside a closed side
@@ -73,13 +106,6 @@ void RankGrid::near(const Vec3& x, double width, int skip, std::vector<int>& out
       for (int cx : cells[0])
         if (const int r = rank_of({cx, cy, cz}); r != skip) out.push_back(r);
   std::sort(out.begin(), out.end());
-}
-
-double RankGrid::narrowest() const {
-  double least = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a)
-    if (counts_[static_cast<std::size_t>(a)] > 1) least = std::min(least, domain_.length(a) / counts_[static_cast<std::size_t>(a)]);
-  return least;
 }
 
 }  // namespace tsubu

@@ -722,6 +722,7 @@ void read_parallel(Section s, Scenario& sc) {
     sc.parallel.counts[a] = static_cast<int>(counts[a]);
   }
   sc.parallel.where = s.where("counts");
+  sc.parallel.balance = s.choice("balance", {"work", "none"}, "work") == "work";
   s.finish();
 }
 

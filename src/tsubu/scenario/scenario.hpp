@@ -90,6 +90,7 @@ struct StopSpec {
 // [parallel]: how a run split among processes (mpirun -np N, N > 1) cuts its box.
 struct ParallelSpec {
   std::array<int, 3> counts{0, 0, 0};  // subdomains along x, y, z; 0: an automatic count (RankGrid)
+  bool balance = true;                 // the cuts follow the work ("work") or stay evenly spaced ("none")
   SourceLocation where;                // parallel.counts, checked against the number of processes at the start
 };
 
