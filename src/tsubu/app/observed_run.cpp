@@ -63,10 +63,11 @@ void ObservedRun::advance() {
 
 int ObservedRun::agree_after_step(bool wanted) {
   if (!split()) return g_stop_signal;
-  const Communicator& comm = Communicator::world();
-  const int signal = static_cast<int>(comm.max(g_stop_signal));  // the signal numbers are small: exact in a double
-  if (comm.any(wanted) || signal != 0) gather();
-  return signal;
+  // One reduction for both: the largest of 2 x each process's signal number, or 1 where a
+  // process wants the state and has no signal (the numbers are small: exact in a double).
+  const double word = Communicator::world().max(g_stop_signal != 0 ? 2.0 * g_stop_signal : wanted ? 1.0 : 0.0);
+  if (word > 0) gather();
+  return static_cast<int>(word / 2);
 }
 
 bool ObservedRun::agree_last(bool last) { return split() ? Communicator::world().any(last && writes()) : last; }

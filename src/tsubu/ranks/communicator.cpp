@@ -88,6 +88,15 @@ std::vector<std::string> Communicator::exchange(const std::vector<std::string>& 
   std::vector<int> send_counts(static_cast<std::size_t>(size_)), receive_counts(send_counts.size());
   for (std::size_t r = 0; r < send_counts.size(); ++r) send_counts[r] = count_of(to_each[r].size());
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<std::size_t> from_each(receive_counts.begin(), receive_counts.end());
+  return exchange(to_each, from_each);
+}
+
+std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each,
+                                                const std::vector<std::size_t>& from_each) const {
+  std::vector<int> send_counts(static_cast<std::size_t>(size_)), receive_counts(send_counts.size());
+  for (std::size_t r = 0; r < send_counts.size(); ++r)
+    send_counts[r] = count_of(to_each[r].size()), receive_counts[r] = count_of(from_each[r]);
   std::string sent;
   for (const std::string& s : to_each) sent += s;
   const std::vector<int> send_at = displacements(send_counts), receive_at = displacements(receive_counts);
@@ -150,6 +159,10 @@ Communicator& Communicator::world() {
 bool Communicator::started() { return false; }
 void Communicator::end_job(int code) { std::exit(code); }
 std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each) const { return to_each; }
+std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each,
+                                                const std::vector<std::size_t>&) const {
+  return to_each;
+}
 std::vector<std::string> Communicator::gather(const std::string& bytes) const { return {bytes}; }
 bool Communicator::any(bool mine) const { return mine; }
 double Communicator::max(double mine) const { return mine; }

@@ -193,10 +193,12 @@ void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLi
   std::size_t bytes_each = 0;
   p.for_each_array([&](const auto& array) { bytes_each += sizeof(typename std::decay_t<decltype(array)>::value_type); });
   received_from_.assign(processes, 0);
+  ghosts_from_.assign(processes, 0);
   for (std::size_t r = 0; r < processes; ++r) {
     received_from_[r] = p.size();
+    ghosts_from_[r] = received[r].size() / bytes_each;
     std::size_t at = 0;
-    unpack(received[r], at, received[r].size() / bytes_each, p);
+    unpack(received[r], at, ghosts_from_[r], p);
   }
   world.ghosts = p.size() - n;
 
@@ -205,31 +207,39 @@ void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLi
   ++arrangements_;
 }
 
-void Decomposition::refresh_ghosts(World& world) {
+bool Decomposition::refresh_ghosts(World& world, bool flag) {
   Particles& p = world.particles;
-  std::vector<std::string> motion(sent_.size());
-  for (std::size_t r = 0; r < sent_.size(); ++r)
+  // To every process (all of them, so that each hears every flag): the flag, then the motion
+  // of the particles it has copies of, whose number it knows.
+  constexpr std::size_t kMotion = 3 * sizeof(Vec3);
+  std::vector<std::string> motion(sent_.size(), std::string(1, flag ? '\1' : '\0'));
+  std::vector<std::size_t> sizes(sent_.size());
+  for (std::size_t r = 0; r < sent_.size(); ++r) {
     for (std::uint32_t i : sent_[r]) put(motion[r], p.position[i]), put(motion[r], p.velocity[i]), put(motion[r], p.omega[i]);
-  const std::vector<std::string> received = comm_.exchange(motion);
+    sizes[r] = 1 + kMotion * ghosts_from_[r];
+  }
+  const std::vector<std::string> received = comm_.exchange(motion, sizes);
+  bool any = false;
   for (std::size_t r = 0; r < received.size(); ++r) {
-    std::size_t at = 0, k = received_from_[r];
+    any = any || received[r][0] != '\0';
+    std::size_t at = 1, k = received_from_[r];
     for (; at < received[r].size(); ++k) {
       p.position[k] = take<Vec3>(received[r], at);
       p.velocity[k] = take<Vec3>(received[r], at);
       p.omega[k] = take<Vec3>(received[r], at);
     }
   }
+  return any;
 }
 
 bool Decomposition::update(World& world) {
-  refresh_ghosts(world);
   const Particles& p = world.particles;
   const double limit2 = 0.25 * skin_ * skin_;
   bool moved = false;
   for (std::size_t i = 0; i < world.owned() && !moved; ++i)
     moved = norm2(world.domain.separation(p.position[i], arranged_at_[i])) > limit2;
   const bool added = std::exchange(added_, false);  // the same on every process
-  if (!comm_.any(moved)) return added;
+  if (!refresh_ghosts(world, moved)) return added;  // no particle has moved half the skin, on any process
   hand_over(world, {});
   return true;
 }
@@ -239,7 +249,7 @@ void Decomposition::agree_any(std::vector<char>& flags) const { comm_.any_each(f
 void Decomposition::add(World& world, Particles arrivals) {
   for (double r : arrivals.radius) largest_radius_ = std::max(largest_radius_, r);  // alike on every process
   width_ = reach_per_radius_ * largest_radius_ + skin_;
-  refresh_ghosts(world);  // the partners' owners below are read from the ghosts' positions
+  refresh_ghosts(world, false);  // the partners' owners below are read from the ghosts' positions
   hand_over(world, arrivals);
   added_ = true;
 }

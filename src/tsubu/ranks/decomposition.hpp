@@ -74,6 +74,7 @@ class Decomposition final : public Neighbourhood {
   std::vector<Vec3> arranged_at_;  // the owned particles' positions at the last arrangement
   std::vector<std::vector<std::uint32_t>> sent_;  // per process, the owned particles it has copies of
   std::vector<std::size_t> received_from_;        // per process, where its copies begin in world.particles
+  std::vector<std::size_t> ghosts_from_;          // per process, how many copies of its particles this one has
   std::size_t arrangements_ = 0;
   bool added_ = false;  // particles were added since the last update
   bool balance_;
@@ -81,7 +82,9 @@ class Decomposition final : public Neighbourhood {
   // Settles `owned` (this process's particles, any order) and `links` (touching contacts of
   // them, possibly repeated) as the world's particles and lists, with new ghosts.
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
-  void refresh_ghosts(World& world);
+  // Brings the ghosts' motion from their owners, and with it each process's `flag`: whether
+  // any process passed true.
+  bool refresh_ghosts(World& world, bool flag);
   // Moves the grid's cuts to the work of the world's particles: of all of them when every
   // process holds the whole world (`whole`), else of every process's owned particles.
   void rebalance(const World& world, bool whole);
