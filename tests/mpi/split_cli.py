@@ -4,7 +4,8 @@ of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT
 resume, runs with rolling resistance (also on a grid given by `[parallel] counts`), a run
 with hindered settling and an inflow (3 processes, resumed on 2); what cannot be split yet, or counts that fit no grid, is refused
 (exit 2, naming the key); a failure on process 1 ends the whole job with its message;
-process 0 of a split run with moving walls builds its lists about as often as one process.
+process 0 of a split run with moving walls builds its lists about as often as one process;
+run.json of a split run says what each process held and sent.
 (tools/compare_runs.py --new-launcher compares whole runs.)
 
     python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
@@ -71,6 +72,13 @@ def main():
         three = tmp / "three"
         code, err = run(tsubu, launcher, 3, ["run", SETTLE, "--out", str(three)] + with_sets(SETS))
         check(code == 0, f"a run on 3 processes ends with 0 ({code}: {err[-400:]})")
+        split = json.loads((three / "run.json").read_text())
+        loads = split.get("processes", {})
+        check(loads.get("count") == 3 and sum(p["owned"] for p in loads["each"]) == split["particles"]
+              and all(p["bytes_sent"] > 0 and p["arrangements"] > 0 for p in loads["each"])
+              and len(loads["cuts"]["z"]) == 4 and loads["cuts"]["z"] == sorted(loads["cuts"]["z"]),
+              f"its run.json says what each process held and sent ({loads})")
+        check("processes" not in json.loads((alone / "run.json").read_text()), "one process's run.json has no processes")
         checkpoints = sorted((three / "checkpoint").glob("step_*.tsbk"))
         check(len(checkpoints) == 2, f"it wrote checkpoints ({len(checkpoints)})")
         checkpoints[-1].unlink()

@@ -75,6 +75,7 @@ bool ObservedRun::agree_last(bool last) { return split() ? Communicator::world()
 void ObservedRun::gather() {
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
   if (!mirror_) return;
+  loads_ = std::move(all.loads);
   mirror_->world() = std::move(all.world);
   if (const InflowFeed* inflow = part_.inflow()) mirror_->feed(*inflow);  // every process's stream is alike
   mirror_->forces().adopt_results(std::move(all.pair_results), std::move(all.wall_results));

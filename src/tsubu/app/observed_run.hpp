@@ -41,11 +41,16 @@ class ObservedRun {
   int agree_after_step(bool wanted);
   // Whether the run ends here, as process 0 says.
   bool agree_last(bool last);
+  // Process 0 of a split run: the grid of subdomains, and what each process held and had
+  // sent at the last gather (run.json "processes"); empty otherwise.
+  std::vector<ProcessLoad> loads() const { return loads_; }
+  const RankGrid* grid() const { return decomposition_ ? &decomposition_->grid() : nullptr; }
 
  private:
   Simulation& part_;
   std::unique_ptr<Decomposition> decomposition_;
   std::optional<Simulation> mirror_;  // process 0 of a split run
+  std::vector<ProcessLoad> loads_;    // of the last gather, on process 0
 
   void gather();
 };

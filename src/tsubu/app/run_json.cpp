@@ -55,6 +55,15 @@ void write_run_json(const std::string& path, const std::string& run_id, const Sc
   j["particle_steps_per_second"] = s.particle_steps_per_second();
   j["domain"] = {{"lower", {sc.domain.lower.x, sc.domain.lower.y, sc.domain.lower.z}},
                  {"upper", {sc.domain.upper.x, sc.domain.upper.y, sc.domain.upper.z}}};
+  if (!s.processes.empty()) {
+    nlohmann::ordered_json each = nlohmann::ordered_json::array();
+    for (const ProcessLoad& p : s.processes)
+      each.push_back({{"owned", p.owned}, {"ghosts", p.ghosts}, {"listed_pairs", p.listed_pairs},
+                      {"bytes_sent", p.bytes_sent}, {"arrangements", p.arrangements}});
+    j["processes"] = {{"count", s.processes.size()},
+                      {"cuts", {{"x", s.cuts[0]}, {"y", s.cuts[1]}, {"z", s.cuts[2]}}},
+                      {"each", each}};
+  }
   if (s.block_steps) {
     const BlockStepStats& b = *s.block_steps;
     const double total = static_cast<double>(s.particle_force_evaluations);

@@ -55,9 +55,14 @@ class StopSignals {
 };
 
 // A run's summary as it stands: steps, particles, wall time, the force field's and the
-// integrator's counters, the stepping loops' totals (results are added at a completed end).
-RunSummary summarise(const Simulation& sim, const RunClock& clock) {
+// integrator's counters, the stepping loops' totals, a split run's grid and loads (results
+// are added at a completed end).
+RunSummary summarise(const ObservedRun& run, const Simulation& sim, const RunClock& clock) {
   RunSummary summary;
+  if (const RankGrid* grid = run.grid()) {
+    for (int a = 0; a < 3; ++a) summary.cuts[static_cast<std::size_t>(a)] = grid->cuts(a);
+    summary.processes = run.loads();
+  }
   summary.steps = sim.world().step;
   summary.particles = sim.world().particles.size();
   summary.wall_seconds = clock.wall_seconds();
@@ -107,7 +112,7 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
   RunClock clock(from);
   const std::string json = (std::filesystem::path(out_dir) / "run.json").string();
   auto end_with = [&](const char* status, const std::string& message) {
-    write_run_json(json, run_id, sc, threads, summarise(sim, clock), status, message);
+    write_run_json(json, run_id, sc, threads, summarise(run, sim, clock), status, message);
   };
   // Everything after a completed step, its outputs on disk first.
   auto checkpoint = [&] {
@@ -181,7 +186,7 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
     }
     throw WriteError(msg);
   }
-  RunSummary summary = summarise(sim, clock);
+  RunSummary summary = summarise(run, sim, clock);
   observers.add_results(sim, summary);
   summary.stop_reason = observers.stop_reason().empty() ? "duration" : observers.stop_reason();
   write_run_json(json, run_id, sc, threads, summary, "ok", "");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "tsubu/analysis/grain_sizes.hpp"
+#include "tsubu/ranks/decomposition.hpp"
 #include "tsubu/scenario/scenario.hpp"
 
 namespace tsubu {
@@ -34,6 +35,10 @@ struct RunSummary {
   std::vector<SourceSizes> sources;       // per [[particles]] source: grains and D10/D50/D90 (m) at the end
   // Why a completed run ended: "duration", or the [[stop]] condition met (run.json "stop_reason").
   std::string stop_reason;
+  // A run split among processes: its grid's cuts along x, y and z, and each process's load
+  // (run.json "processes"); empty for one process.
+  std::array<std::vector<double>, 3> cuts;
+  std::vector<ProcessLoad> processes;
 };
 
 // SIGINT or SIGTERM stopped the run after writing a checkpoint and run.json (exit code 4).

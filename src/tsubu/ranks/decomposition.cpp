@@ -187,7 +187,7 @@ void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLi
       pack(owned, i, copies[static_cast<std::size_t>(r)]);
     }
   }
-  const std::vector<std::string> received = comm_.exchange(copies);
+  const std::vector<std::string> received = exchange(copies);
   Particles& p = world.particles;
   p = std::move(owned);
   std::size_t bytes_each = 0;
@@ -207,6 +207,13 @@ void Decomposition::arrange(World& world, Particles owned, std::vector<ContactLi
   ++arrangements_;
 }
 
+std::vector<std::string> Decomposition::exchange(const std::vector<std::string>& to_each,
+                                                 const std::vector<std::size_t>* sizes) {
+  for (std::size_t r = 0; r < to_each.size(); ++r)
+    if (static_cast<int>(r) != comm_.rank()) bytes_sent_ += to_each[r].size();
+  return sizes ? comm_.exchange(to_each, *sizes) : comm_.exchange(to_each);
+}
+
 bool Decomposition::refresh_ghosts(World& world, bool flag) {
   Particles& p = world.particles;
   // To every process (all of them, so that each hears every flag): the flag, then the motion
@@ -218,7 +225,7 @@ bool Decomposition::refresh_ghosts(World& world, bool flag) {
     for (std::uint32_t i : sent_[r]) put(motion[r], p.position[i]), put(motion[r], p.velocity[i]), put(motion[r], p.omega[i]);
     sizes[r] = 1 + kMotion * ghosts_from_[r];
   }
-  const std::vector<std::string> received = comm_.exchange(motion, sizes);
+  const std::vector<std::string> received = exchange(motion, &sizes);
   bool any = false;
   for (std::size_t r = 0; r < received.size(); ++r) {
     any = any || received[r][0] != '\0';
@@ -286,7 +293,7 @@ void Decomposition::hand_over(World& world, const Particles& arrivals) {
   }
   std::vector<std::string> out;
   for (const Parcel& parcel : parcels) out.push_back(parcel.bytes());
-  const std::vector<std::string> received = comm_.exchange(out);
+  const std::vector<std::string> received = exchange(out);
   Particles owned;
   std::vector<ContactLink> links;
   for (const std::string& bytes : received)
@@ -309,6 +316,13 @@ Decomposition::Gathered Decomposition::gathered(const World& world, const ForceF
   w.dt = world.dt, w.time = world.time, w.step = world.step;
   w.source_ids = world.source_ids;
   const std::vector<std::string> parts = comm_.gather(mine.bytes());
+  const ProcessLoad load{world.owned(), world.ghosts, world.contacts.pairs().size(), bytes_sent_, arrangements_};
+  std::string load_bytes;
+  put(load_bytes, load);
+  for (const std::string& bytes : comm_.gather(load_bytes)) {
+    std::size_t at = 0;
+    all.loads.push_back(take<ProcessLoad>(bytes, at));
+  }
   if (parts.empty()) return all;
   std::vector<std::pair<ContactLink, ContactResult>> records;
   for (const std::string& bytes : parts)

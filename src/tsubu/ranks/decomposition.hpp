@@ -32,6 +32,14 @@ struct ContactLink {
   ContactHistory history;
 };
 
+// What a process of a split run holds and has sent: its owned particles, its copies of
+// others' (ghosts) and the pairs of its neighbour list, now; the bytes it has sent to other
+// processes in its exchanges of particles (ghost copies and motion, hand-overs) and how
+// often the particles were arranged, since the run (or its resume) began.
+struct ProcessLoad {
+  std::uint64_t owned = 0, ghosts = 0, listed_pairs = 0, bytes_sent = 0, arrangements = 0;
+};
+
 class Decomposition final : public Neighbourhood {
  public:
   // `skin`: the margin of the hand-overs (the same on every process; a particle is handed
@@ -63,6 +71,7 @@ class Decomposition final : public Neighbourhood {
   struct Gathered {
     World world;
     std::vector<ContactResult> pair_results, wall_results;
+    std::vector<ProcessLoad> loads;  // by process
   };
   Gathered gathered(const World& world, const ForceField& forces) const;
 
@@ -76,12 +85,15 @@ class Decomposition final : public Neighbourhood {
   std::vector<std::size_t> received_from_;        // per process, where its copies begin in world.particles
   std::vector<std::size_t> ghosts_from_;          // per process, how many copies of its particles this one has
   std::size_t arrangements_ = 0;
+  std::uint64_t bytes_sent_ = 0;  // to other processes, in exchange()
   bool added_ = false;  // particles were added since the last update
   bool balance_;
 
   // Settles `owned` (this process's particles, any order) and `links` (touching contacts of
   // them, possibly repeated) as the world's particles and lists, with new ghosts.
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
+  // comm_.exchange, counting the bytes sent to other processes.
+  std::vector<std::string> exchange(const std::vector<std::string>& to_each, const std::vector<std::size_t>* sizes = nullptr);
   // Brings the ghosts' motion from their owners, and with it each process's `flag`: whether
   // any process passed true.
   bool refresh_ghosts(World& world, bool flag);
