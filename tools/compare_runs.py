@@ -13,8 +13,8 @@ run.json's results (its timings and ids are left out). Exit status 0 when everyt
 
 With --new-launcher (a command put before NEW_TSUBU, e.g. "mpirun -np 3"), NEW_TSUBU's runs
 are split among processes (docs/parallel.md): only the cases a split run supports are run,
-and run.json's force-evaluation and list-build counters (each process's own work) are left
-out of the comparison.
+and run.json's force-evaluation and list-build counters (each process's own work) and its
+`processes` (the split's grid and loads) are left out of the comparison.
 
 OLD_TSUBU is, for example, a build of the commit before the change:
     git worktree add /tmp/before HEAD~1 && cmake -S /tmp/before -B /tmp/before/build -G Ninja \
@@ -51,8 +51,9 @@ SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "inflow", "hindered_set
           "hysteresis_piston", "search_multilevel", "search_cell"}
 # Every case writes frames and a final checkpoint.
 COMMON = ["output.vtk_interval=0.01"]
-# run.json keys that count the work of the process that writes run.json, in a split run.
-COUNTERS = {"particle_force_evaluations", "contact_evaluations", "list_builds"}
+# run.json keys that count the work of the process that writes run.json, in a split run, and
+# the split's own description (its grid and what each process held and sent).
+COUNTERS = {"particle_force_evaluations", "contact_evaluations", "list_builds", "processes"}
 # run.json keys that are measurements of the machine, not results.
 UNSTABLE = {"run_id", "wall_time_s", "loop_time_s", "loop_sessions", "particle_steps_per_second", "started",
             "finished", "host", "threads", "tsubu", "version", "sessions", "command"}
