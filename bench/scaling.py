@@ -128,53 +128,25 @@ def scale(args):
     return rows
 
 
-def lattice_scenario(grains, folder):
-    """A simple cubic lattice of `grains` 2 mm spheres (n x n x layers) just above a floor."""
+def lattice_overrides(grains):
+    """The 100k bed's physics (bench/mono-settled-large.toml) with `grains` 2 mm spheres on a
+    simple cubic lattice (n x n x layers) just above its floor instead of its bed, 20 steps."""
     d, n = 0.002, max(1, round((grains / 10) ** 0.5))
     layers = -(-grains // (n * n))
     side, height = n * 1.01 * d, (layers + 2) * 1.01 * d
-    text = f"""[simulation]
-duration = {20 * 5e-6!r}
-dt = 5e-6
-gravity = [0, 0, -9.81]
-[domain]
-lower = [0, 0, 0]
-upper = [{side!r}, {side!r}, {height!r}]
-periodic = ["x", "y"]
-[[materials]]
-name = "grain"
-density = 2500
-youngs_modulus = 5e7
-poisson = 0.3
-[contact.default]
-normal = "hertz_tsuji"
-tangential = "mindlin"
-restitution = 0.5
-friction = 0.5
-[[walls]]
-point = [0, 0, 0]
-normal = [0, 0, 1]
-material = "grain"
-[[particles]]
-source = "lattice"
-material = "grain"
-lower = [0, 0, 0]
-upper = [{side!r}, {side!r}, {layers * 1.01 * d!r}]
-diameter = {d!r}
-spacing = {1.01 * d!r}
-"""
-    path = folder / "lattice.toml"
-    path.write_text(text)
-    return path, n * n * layers
+    lattice = (f'{{source = "lattice", material = "grain", lower = [0, 0, 0], upper = [{side!r}, {side!r}, '
+               f'{layers * 1.01 * d!r}], diameter = {d!r}, spacing = {1.01 * d!r}}}')
+    return [f"simulation.duration={20 * 5e-6!r}", f"domain.upper=[{side!r}, {side!r}, {height!r}]",
+            f"particles=[{lattice}]"], n * n * layers
 
 
 def memory(args):
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
-        scenario, grains = lattice_scenario(args.memory, work)
+        sets, grains = lattice_overrides(args.memory)
         for processes in (1, 2):
-            _, rss = tsubu_rate(args.tsubu, scenario, [], processes, 1, work)
+            _, rss = tsubu_rate(args.tsubu, HERE / "mono-settled-large.toml", sets, processes, 1, work)
             rows.append((processes, grains, rss))
             print(f"{grains} grains on {processes} process{'es' if processes > 1 else ''}: peak resident set of the "
                   f"largest process {rss / 2**20:.0f} MiB, {rss / grains:.0f} bytes per grain of the run", flush=True)
