@@ -1,17 +1,21 @@
 #!/usr/bin/env python3
 """`mpirun -np N tsubu run|resume` (docs/parallel.md, "From the command line"): a checkpoint
 of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
-resume, runs with rolling resistance (also on a grid given by `[parallel] counts`), a run
-with hindered settling and an inflow (3 processes, resumed on 2); what cannot be split yet, or counts that fit no grid, is refused
-(exit 2, naming the key); a failure on process 1 ends the whole job with its message;
-process 0 of a split run with moving walls builds its lists about as often as one process;
-run.json of a split run says what each process held and sent.
+resume; one process killed, or the whole job killed at a random time, then resume; runs with
+rolling resistance (also on a grid given by `[parallel] counts`), a run with hindered
+settling and an inflow (3 processes, resumed on 2). What cannot be split yet, or counts that
+fit no grid, is refused (exit 2, naming the key); a failure on process 1 ends the whole job
+with its message, process 0 recording it in run.json and keeping the series and checkpoints
+as one process does; process 0 of a split run with moving walls builds its lists about as
+often as one process; run.json of a split run says what each process held and sent.
 (tools/compare_runs.py --new-launcher compares whole runs.)
 
     python3 tests/mpi/split_cli.py TSUBU "MPIRUN ARGS... -np"
 """
 import json
+import os
 import pathlib
+import random
 import shlex
 import signal
 import subprocess
@@ -42,6 +46,14 @@ def tsubu_cmd(tsubu, launcher, processes, args):
 def run(tsubu, launcher, processes, args):
     r = subprocess.run(tsubu_cmd(tsubu, launcher, processes, args), capture_output=True, text=True, timeout=TIMEOUT)
     return r.returncode, r.stderr
+
+
+def process_of(launcher_pid, rank):
+    """The pid of process `rank` of the job the launcher `launcher_pid` started (Open MPI)."""
+    for pid in subprocess.run(["pgrep", "-P", str(launcher_pid)], capture_output=True, text=True).stdout.split():
+        if f"OMPI_COMM_WORLD_RANK={rank}".encode() in pathlib.Path(f"/proc/{pid}/environ").read_bytes().split(b"\0"):
+            return int(pid)
+    raise RuntimeError(f"no process {rank} under {launcher_pid}")
 
 
 def with_sets(sets):
@@ -101,6 +113,29 @@ def main():
         code, err = run(tsubu, launcher, 3, ["resume", str(stopped)])
         check(code == 0, f"it resumes on 3 processes ({code}: {err[-400:]})")
         same_files(alone, stopped, "stopped by SIGINT on 2 processes, resumed on 3")
+
+        # Faults: process 1 killed (SIGKILL) after the first checkpoint ends the job, which
+        # resumes from its last good checkpoint; so does the whole job killed at a random time.
+        for name, whole, resumed_on in (("killed1", False, 2), ("killedall", True, 3)):
+            out = tmp / name
+            p = subprocess.Popen(tsubu_cmd(tsubu, launcher, 2, ["run", SETTLE, "--out", str(out)] + with_sets(SETS)),
+                                 stderr=subprocess.PIPE, text=True)
+            while not any((out / "checkpoint").glob("step_*.tsbk")):
+                time.sleep(0.02)
+                assert p.poll() is None, p.stderr.read()
+            delay = random.uniform(0.0, 0.5) if whole else 0.0
+            time.sleep(delay)
+            # Open MPI puts its processes in process groups of their own: each is killed.
+            for pid in [process_of(p.pid, 0), process_of(p.pid, 1), p.pid] if whole else [process_of(p.pid, 1)]:
+                os.kill(pid, signal.SIGKILL)
+            _, err = p.communicate(timeout=TIMEOUT)
+            if not whole:
+                check(p.returncode != 0 and "rank 1" in err and "signal 9" in err,
+                      f"process 1 killed: the job ends, saying so ({p.returncode}: {err[-300:]})")
+            code, err = run(tsubu, launcher, resumed_on, ["resume", str(out)])
+            check(code == 0, f"{name}: resumes on {resumed_on} processes ({code}: {err[-400:]})")
+            same_files(alone, out, f"{'the whole job' if whole else 'process 1'} killed ({delay:.2f} s after the first "
+                                   f"checkpoint), resumed on {resumed_on}")
 
         # Rolling resistance (EPSD): its spring, a contact history slot, is handed over and
         # gathered with the others.
@@ -163,13 +198,26 @@ def main():
         code, err = run(tsubu, launcher, 2, ["export", str(alone)])
         check(code == 2 and "`tsubu export` runs as one process" in err, f"export is refused ({code}: {err[-300:]})")
 
-        # A grain leaves the box through the top, in process 1's half: the whole job ends.
+        # A grain leaves the box through the top, in process 1's half: the whole job ends with
+        # its message, and process 0 records the failure as one process does (run.json, the
+        # series up to the failing step, the last good checkpoint named and kept).
+        lost = ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--set", "simulation.gravity=[0, 0, 1000]",
+                "--set", "output.checkpoint_every_steps=100"]
+        code1, err1 = run(tsubu, launcher, 1, lost + ["--out", str(tmp / "lost1")])
         started = time.monotonic()
-        code, err = run(tsubu, launcher, 2, ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--out",
-                                             str(tmp / "lost"), "--set", "simulation.gravity=[0, 0, 1000]"])
-        check(code == 3 and "tsubu: process 1: numerical failure: " in err and "left the domain" in err,
+        code, err = run(tsubu, launcher, 2, lost + ["--out", str(tmp / "lost2")])
+        check(code1 == 3 and code == 3 and "tsubu: process 1: numerical failure: " in err and "left the domain" in err,
               f"a failure on process 1 ends the job with 3 and its message in {time.monotonic() - started:.0f} s "
               f"({code}: {err[-600:]})")
+        summaries = [json.loads((tmp / f / "run.json").read_text()) for f in ("lost1", "lost2")]
+        check(summaries[1]["status"] == "failed" and summaries[1]["message"] == summaries[0]["message"].replace("lost1", "lost2")
+              and "checkpoint" in summaries[1]["message"] and summaries[1]["steps"] == summaries[0]["steps"],
+              f"process 0 records process 1's failure in run.json as one process does ({summaries[1]['status']}: "
+              f"{summaries[1]['message'][-200:]})")
+        check((tmp / "lost2/series.csv").read_bytes() == (tmp / "lost1/series.csv").read_bytes()
+              and sorted(p.name for p in (tmp / "lost2/checkpoint").glob("*.tsbk"))
+              == sorted(p.name for p in (tmp / "lost1/checkpoint").glob("*.tsbk")) != [],
+              "the failed split run keeps one process's series and checkpoints")
     if failures:
         sys.exit(f"{len(failures)} failed")
 

@@ -64,21 +64,29 @@ void refuse_several_processes(const tsubu::Processes& processes, const char* com
                           "(docs/parallel.md)");
 }
 
-// How an error ends the command: `text` on stderr and exit code `code`. In a run split among
-// processes, before MPI started every process met the same error (the same input) and only
-// process 0 says it; afterwards the failing process says it, naming itself, and ends the
-// whole job (Communicator::end_job), so that none waits for ever for it. A stop by a signal
-// is agreed by all processes, which end by themselves.
-int ended(const tsubu::Processes& processes, int code, const std::string& text, bool agreed = false) {
-  if (processes.count == 1 || agreed || !tsubu::Communicator::started()) {
-    if (processes.rank == 0) std::fprintf(stderr, "%s\n", text.c_str());
-    return code;
-  }
-  std::string line = text;
-  line.erase(0, line.find_first_not_of('\n'));
-  std::fprintf(stderr, "tsubu: process %d: %s\n", processes.rank, line.c_str());
+// Says a split run's failure on process `rank` and ends the whole job with `code`.
+[[noreturn]] void ended_job(int rank, int code, std::string kind, const std::string& message) {
+  kind.erase(0, kind.find_first_not_of('\n'));
+  std::fprintf(stderr, "tsubu: process %d: %s%s\n", rank, kind.c_str(), message.c_str());
   std::fflush(stderr);
   tsubu::Communicator::end_job(code);
+}
+
+// How an error ends the command: `kind` and `message` on stderr and exit code `code`. In a
+// run split among processes, before MPI started every process met the same error (the same
+// input) and only process 0 says it; afterwards a failing process other than 0 reports it to
+// process 0 (Communicator::report_failure), which records it in run.json, says it naming the
+// failing process and ends the whole job (Communicator::end_job), so that none waits for ever.
+// Process 0's own error ends the job the same way. A stop by a signal is agreed by all
+// processes, which end by themselves.
+int ended(const tsubu::Processes& processes, int code, const std::string& kind, const std::string& message,
+          bool agreed = false) {
+  if (processes.count == 1 || agreed || !tsubu::Communicator::started()) {
+    if (processes.rank == 0) std::fprintf(stderr, "%s%s\n", kind.c_str(), message.c_str());
+    return code;
+  }
+  if (processes.rank != 0) tsubu::Communicator::world().report_failure(code, kind, message);
+  ended_job(processes.rank, code, kind, message);
 }
 
 // What `tsubu check` prints about the time step (docs/cli.md, "Time scales and the time step").
@@ -237,16 +245,18 @@ int main(int argc, char** argv) {
     print_results(s);
     return 0;
   } catch (const tsubu::InputError& e) {
-    return ended(processes, 2, e.what());
+    return ended(processes, 2, "", e.what());
   } catch (const tsubu::UsageError& e) {
-    return ended(processes, 2, std::string("error: ") + e.what());
+    return ended(processes, 2, "error: ", e.what());
   } catch (const tsubu::WriteError& e) {
-    return ended(processes, 5, std::string("\nwrite failure: ") + e.what());
+    return ended(processes, 5, "\nwrite failure: ", e.what());
   } catch (const tsubu::NumericalError& e) {
-    return ended(processes, 3, std::string("numerical failure: ") + e.what());
+    return ended(processes, 3, "numerical failure: ", e.what());
   } catch (const tsubu::Interrupted& e) {
-    return ended(processes, 4, std::string("\ninterrupted: ") + e.what(), true);
+    return ended(processes, 4, "\ninterrupted: ", e.what(), true);
+  } catch (const tsubu::ProcessFailed& e) {  // on process 0: another process's failure
+    ended_job(e.process, e.code, e.kind, e.what());
   } catch (const std::exception& e) {
-    return ended(processes, 1, std::string("error: ") + e.what());
+    return ended(processes, 1, "error: ", e.what());
   }
 }

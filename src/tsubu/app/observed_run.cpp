@@ -1,5 +1,6 @@
 #include "tsubu/app/observed_run.hpp"
 
+#include <stdexcept>
 #include <string>
 
 #include "tsubu/core/error.hpp"
@@ -66,11 +67,21 @@ int ObservedRun::agree_after_step(bool wanted) {
   // One reduction for both: the largest of 2 x each process's signal number, or 1 where a
   // process wants the state and has no signal (the numbers are small: exact in a double).
   const double word = Communicator::world().max(g_stop_signal != 0 ? 2.0 * g_stop_signal : wanted ? 1.0 : 0.0);
+  unread_step_ = word == 0;
   if (word > 0) gather();
   return static_cast<int>(word / 2);
 }
 
-bool ObservedRun::agree_last(bool last) { return split() ? Communicator::world().any(last && writes()) : last; }
+bool ObservedRun::agree_last(bool last) {
+  if (!split()) return last;
+  if (unread_step_) {
+    unread_step_ = false;
+    if (last && writes())
+      throw std::logic_error("process 0 ended a split run at a step whose state it had not gathered");
+    return false;
+  }
+  return Communicator::world().any(last && writes());
+}
 
 void ObservedRun::gather() {
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());

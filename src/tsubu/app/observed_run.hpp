@@ -39,7 +39,10 @@ class ObservedRun {
   // say) or a stop signal arrived on any process; the whole state is then gathered. Returns
   // the signal (0: none).
   int agree_after_step(bool wanted);
-  // Whether the run ends here, as process 0 says.
+  // Whether the run ends here, as process 0 says. After a step whose state no one read
+  // (agree_after_step gathered nothing) process 0 cannot say so: its observers read the state
+  // at the last step and wherever a [[stop]] condition is evaluated. Every process then knows
+  // the answer, no, without asking (throws std::logic_error should process 0 say yes).
   bool agree_last(bool last);
   // Process 0 of a split run: the grid of subdomains, and what each process held and had
   // sent at the last gather (run.json "processes"); empty otherwise.
@@ -51,6 +54,7 @@ class ObservedRun {
   std::unique_ptr<Decomposition> decomposition_;
   std::optional<Simulation> mirror_;  // process 0 of a split run
   std::vector<ProcessLoad> loads_;    // of the last gather, on process 0
+  bool unread_step_ = false;          // the last agree_after_step gathered nothing
 
   void gather();
 };

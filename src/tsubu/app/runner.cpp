@@ -178,6 +178,12 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
     const std::string msg = e.what() + checkpoints.kept();
     end_with("failed", msg);
     throw NumericalError(msg);
+  } catch (const ProcessFailed& e) {
+    // Another process failed (split runs): its message, with this process's outputs so far.
+    observers.flush(clock);
+    const std::string msg = e.what() + checkpoints.kept();
+    end_with("failed", msg);
+    throw ProcessFailed(e.process, e.code, e.kind, msg);
   } catch (const WriteError& e) {
     const std::string msg = e.what() + checkpoints.kept();
     try {

@@ -3,10 +3,24 @@
 // process otherwise. docs/parallel.md.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tsubu {
+
+// Thrown on process 0 from a collective operation when another process has reported that it
+// failed (Communicator::report_failure): the run ends with that process's message and exit
+// code. what() is its message; `kind` is what the command line prints before it ("numerical
+// failure: ", as for that error on one process).
+class ProcessFailed : public std::runtime_error {
+ public:
+  ProcessFailed(int failed, int exit_code, std::string what_failed, const std::string& message)
+      : std::runtime_error(message), process(failed), code(exit_code), kind(std::move(what_failed)) {}
+  int process, code;
+  std::string kind;
+};
 
 class Communicator {
  public:
@@ -17,9 +31,18 @@ class Communicator {
   // Ends every process of the job at once with exit code `code` (MPI_Abort), so that none
   // waits for ever for one that failed; without MPI started, this process (exit).
   [[noreturn]] static void end_job(int code);
+  // On a process other than 0 that failed after the processes started working together:
+  // sends its exit code, `kind` and `message` to process 0 and waits for it to end the job
+  // (process 0 learns of it in its next collective operation, which throws ProcessFailed, so
+  // that it records the failure in run.json and keeps its outputs). Should process 0 not end
+  // the job within `patience_s`, this process prints its message and ends the job itself.
+  [[noreturn]] void report_failure(int code, const std::string& kind, const std::string& message,
+                                   double patience_s = 120.0) const;
 
   int rank() const { return rank_; }
   int size() const { return size_; }
+
+  // Every collective operation below may throw ProcessFailed on process 0.
 
   // Sends to_each[r] to process r (to_each has size() entries, its own included) and returns
   // what each process sent to this one, by sender.
