@@ -31,7 +31,7 @@ void require_finite_energies(const World& world, const Vec3& gravity, double ela
 EnergyWatch::EnergyWatch(const World& world, const Model& model, double limit) : limit_(limit), gravity_(model.gravity) {
   on_ = limit > 0 && !model.fluid.enabled;
   for (const Wall& w : world.walls)
-    if (!w.motion.empty()) on_ = false;
+    if (!w.motion.empty() || w.surface_moves()) on_ = false;
   for (int k = 0; k < 3; ++k)
     if (world.domain.periodic[k] && gravity_[k] != 0) on_ = false;
 }

@@ -64,6 +64,15 @@ T with_rate(double x, double rate) {
   else return Dual(x, rate);
 }
 
+// The velocity of a wall's surface under the particle `a` (Wall::surface_velocity_at); on
+// Dual with its rate: the wall's own velocity is constant within a step, a turning surface's
+// changes as the particle moves over it (the angular velocity times the particle's velocity).
+template <class T, class Motion>
+Vector<T> surface_velocity(const Wall& wall, const Motion& a) {
+  if constexpr (std::is_same_v<T, double>) return wall.surface_velocity_at(a.x);
+  else return DualVec3(wall.surface_velocity_at(a.x), wall.surface_moves() ? cross(wall.angular_velocity, value(a.v)) : Vec3{});
+}
+
 // The law's models, called on the number type T: every law on double; on Dual only the laws
 // with rates, and no rolling resistance (compute_active refuses a table with another).
 template <class T, class Visit>
@@ -319,7 +328,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const Wall& wall = world.walls[c.j];
   const double r = p.radius[i];
   const auto a = state.at(i);
-  const Vector<T> v_rel = a.v - Vector<T>(wall.velocity);
+  const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a);
   const double dist = wall.distance(a.x);
   // Touching from the front side only: a centre behind the plane has tunnelled through and
   // feels no force from it.

@@ -309,7 +309,7 @@ double steps_per_contact(const World& world, const LawTable& laws, const Contact
   const std::size_t a = c.i, b = c.j;
   const double m_eff = wall ? p.mass[a] : p.mass[a] * p.mass[b] / (p.mass[a] + p.mass[b]);
   const double r_eff = wall ? p.radius[a] : p.radius[a] * p.radius[b] / (p.radius[a] + p.radius[b]);
-  const double speed = norm(p.velocity[a] - (wall ? world.walls[b].velocity : p.velocity[b]));
+  const double speed = norm(p.velocity[a] - (wall ? world.walls[b].surface_velocity_at(p.position[a]) : p.velocity[b]));
   const int other = wall ? world.walls[b].material : p.material[b];
   return contact_time(laws.at(p.material[a], other).normal, m_eff, r_eff, speed) / world.dt;
 }

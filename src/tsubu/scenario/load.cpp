@@ -222,6 +222,26 @@ void read_contact(Section s, Scenario& sc) {
   s.finish();
 }
 
+// A wall's surface motion within its plane (Wall): a velocity in the plane, a rotation about
+// the normal through `center`. Components out of the plane, or across the normal, would move
+// the geometry: refused unless they are rounding (the vector is then projected).
+void read_surface_motion(Section& s, Wall& w) {
+  constexpr double kRounding = 1e-9;  // of the vector's length
+  const Vec3 v = s.vec3("surface_velocity", {});
+  if (const double across = dot(v, w.normal); std::abs(across) > kRounding * norm(v))
+    s.fail("surface_velocity", "must lie in the wall's plane (perpendicular to its normal): its component along the normal is " +
+                                   num(across) + " m/s; a wall that moves across its plane takes a `motion`");
+  w.surface_velocity = v - dot(v, w.normal) * w.normal;
+  const Vec3 omega = s.vec3("angular_velocity", {});
+  if (const double off = norm(cross(omega, w.normal)); off > kRounding * norm(omega))
+    s.fail("angular_velocity", "must be along the wall's normal (a turntable: the rotation moves no geometry of the plane); "
+                               "its component across the normal is " + num(off) + " rad/s");
+  w.angular_velocity = dot(omega, w.normal) * w.normal;
+  if (s.has("center") && w.angular_velocity == Vec3{})
+    s.fail("center", "is the axis of the surface's rotation: give angular_velocity too, or leave center out");
+  w.axis_offset = s.vec3("center", w.point) - w.point;
+}
+
 void read_wall(Section s, Scenario& sc) {
   Wall w;
   w.point = s.vec3("point");
@@ -243,6 +263,7 @@ void read_wall(Section s, Scenario& sc) {
     previous = stretch.until;
     w.motion.push_back(stretch);
   }
+  read_surface_motion(s, w);
   s.finish();
   sc.walls.push_back(w);
 }

@@ -53,7 +53,8 @@ std::vector<GrainTimes> grain_sizes(const Scenario& sc, const World& w) {
 
 // The representative approach speed of a collision: the largest of the free-fall speed over
 // the domain's height, the terminal speed of the largest grain in a fluid, twice the largest
-// initial speed (two grains head on), the inflow's entry speed and the fastest wall.
+// initial speed (two grains head on), the inflow's entry speed, the fastest wall and the
+// fastest point of a wall's moving surface in the box.
 void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
   auto consider = [&](double u, const std::string& why) {
     if (u > ts.impact_speed) ts.impact_speed = u, ts.impact_reason = why;
@@ -72,6 +73,16 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
   if (const ParticleSource* src = inflow_source(sc)) consider(src->fall_speed, "the inflow's entry speed");
   for (const Wall& wall : sc.walls)
     for (const WallMotion& m : wall.motion) consider(norm(m.velocity) + fastest, "a moving wall");
+  for (const Wall& wall : sc.walls) {  // a moving surface: its fastest point in the box (a corner, for a turntable)
+    if (!wall.surface_moves()) continue;
+    double surface = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 x{(corner & 1 ? sc.domain.upper : sc.domain.lower).x, (corner & 2 ? sc.domain.upper : sc.domain.lower).y,
+                   (corner & 4 ? sc.domain.upper : sc.domain.lower).z};
+      surface = std::max(surface, norm(wall.surface_velocity_at(x) - wall.velocity));
+    }
+    consider(surface + fastest, "a wall's moving surface");
+  }
   consider(sc.block_steps.u_floor, "no motion foreseen: the floor " + fmt(sc.block_steps.u_floor) + " m/s");
 }
 

@@ -55,16 +55,29 @@ struct WallMotion {
 
 // An infinite plane; `normal` is a unit vector pointing into the particles' side. A wall with
 // a `motion` moves as a rigid plane: in each step with the velocity of the stretch that holds
-// the step's midpoint (standing still after the last stretch); its velocity enters the
-// relative velocity of its contacts.
+// the step's midpoint (standing still after the last stretch). Its surface may move besides,
+// within the plane, which moves no geometry (a conveyor belt, a turntable, a drum's end): a
+// velocity in the plane and a rotation about the normal. The velocity of the surface where a
+// particle touches it (surface_velocity_at) enters the relative velocity of the contact.
 struct Wall {
   Vec3 point;
   Vec3 normal;
   int material = 0;
   std::vector<WallMotion> motion;  // in time order; empty: a fixed wall
   Vec3 velocity;                   // m/s, during the current step
+  Vec3 surface_velocity;           // m/s, in the plane
+  Vec3 angular_velocity;           // rad/s, along the normal
+  Vec3 axis_offset;                // m, a point of the rotation's axis, from `point` (it moves with the wall)
 
   double distance(const Vec3& x) const { return dot(x - point, normal); }
+
+  bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
+  // The velocity of the surface at the foot of x on the plane (the rotation's part is the
+  // same at x itself, as the angular velocity is along the normal).
+  Vec3 surface_velocity_at(const Vec3& x) const {
+    if (!surface_moves()) return velocity;
+    return velocity + surface_velocity + cross(angular_velocity, x - (point + axis_offset));
+  }
 
   Vec3 velocity_at(double t) const {
     for (const WallMotion& m : motion)
