@@ -118,9 +118,10 @@ def test_the_array_script_runs_a_case_and_passes_on_the_signals(tmp_path):
     stopped = json.loads((case / "run.json").read_text())
     assert stopped["status"] == "interrupted" and stopped["message"].startswith("stopped by SIGTERM")
 
-    shell = task(file)  # now a resume
-    wait_for(lambda: "tsubu: resuming" in log.read_text() and run_pid(case), "the resume")
-    time.sleep(1)
+    started = time.time()
+    shell = task(file)  # now a resume; signalled once its loop runs (a frame written since)
+    wait_for(lambda: "tsubu: resuming" in log.read_text() and run_pid(case)
+             and any(f.stat().st_mtime > started for f in (case / "frames").glob("frame_*.vtu")), "the resume's frame")
     run = run_pid(case)
     shell.send_signal(signal.SIGTERM)
     os.kill(run, signal.SIGTERM)
