@@ -135,7 +135,9 @@ void Communicator::report_failure(int code, const std::string& kind, const std::
       std::this_thread::sleep_for(std::chrono::milliseconds(done ? 50 : 1));
     }
   }
-  std::fprintf(stderr, "tsubu: process %d: %s%s\n", rank_, kind.c_str(), message.c_str());
+  const std::size_t from = kind.find_first_not_of('\n');  // a progress line's break: not here
+  std::fprintf(stderr, "tsubu: process %d: %s%s\n", rank_, kind.substr(from == std::string::npos ? kind.size() : from).c_str(),
+               message.c_str());
   std::fflush(stderr);
   end_job(code);
 }
