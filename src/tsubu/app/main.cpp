@@ -65,8 +65,7 @@ void refuse_several_processes(const tsubu::Processes& processes, const char* com
 }
 
 // Says a split run's failure on process `rank` and ends the whole job with `code`.
-[[noreturn]] void ended_job(int rank, int code, std::string kind, const std::string& message) {
-  kind.erase(0, kind.find_first_not_of('\n'));
+[[noreturn]] void ended_job(int rank, int code, const std::string& kind, const std::string& message) {
   std::fprintf(stderr, "tsubu: process %d: %s%s\n", rank, kind.c_str(), message.c_str());
   std::fflush(stderr);
   tsubu::Communicator::end_job(code);
@@ -85,8 +84,10 @@ int ended(const tsubu::Processes& processes, int code, const std::string& kind, 
     if (processes.rank == 0) std::fprintf(stderr, "%s%s\n", kind.c_str(), message.c_str());
     return code;
   }
-  if (processes.rank != 0) tsubu::Communicator::world().report_failure(code, kind, message);
-  ended_job(processes.rank, code, kind, message);
+  std::string line = kind;
+  line.erase(0, line.find_first_not_of('\n'));  // no progress line to break here
+  if (processes.rank != 0) tsubu::Communicator::world().report_failure(code, line, message);
+  ended_job(processes.rank, code, line, message);
 }
 
 // What `tsubu check` prints about the time step (docs/cli.md, "Time scales and the time step").

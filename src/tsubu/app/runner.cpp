@@ -114,6 +114,14 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
   auto end_with = [&](const char* status, const std::string& message) {
     write_run_json(json, run_id, sc, threads, summarise(run, sim, clock), status, message);
   };
+  // A failure: the outputs so far flushed, run.json `failed` with its message and the last
+  // good checkpoint named; returns that message.
+  auto failed = [&](const std::string& what) {
+    observers.flush(clock);
+    const std::string msg = what + checkpoints.kept();
+    end_with("failed", msg);
+    return msg;
+  };
   // Everything after a completed step, its outputs on disk first.
   auto checkpoint = [&] {
     Checkpoint c;
@@ -173,17 +181,10 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
     throw Interrupted(msg);
   } catch (const NumericalError& e) {
     // Nothing of the failing state goes into a checkpoint: the last good one stays.
-    observers.flush(clock);
     if (!run.split()) observers.failure_frame(sim);  // a split run's state is on its processes
-    const std::string msg = e.what() + checkpoints.kept();
-    end_with("failed", msg);
-    throw NumericalError(msg);
-  } catch (const ProcessFailed& e) {
-    // Another process failed (split runs): its message, with this process's outputs so far.
-    observers.flush(clock);
-    const std::string msg = e.what() + checkpoints.kept();
-    end_with("failed", msg);
-    throw ProcessFailed(e.process, e.code, e.kind, msg);
+    throw NumericalError(failed(e.what()));
+  } catch (const ProcessFailed& e) {  // another process of a split run failed
+    throw ProcessFailed(e.process, e.code, e.kind, failed(e.what()));
   } catch (const WriteError& e) {
     const std::string msg = e.what() + checkpoints.kept();
     try {

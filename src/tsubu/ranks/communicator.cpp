@@ -32,13 +32,15 @@ void start_mpi() {
   });
 }
 
-// A limit of MPI's (its counts and offsets are int) met on one process: the others are
-// already inside the collective and would wait for ever, so the job ends here, saying why.
-[[noreturn]] void abort_job(const std::string& why) {
+// Ends the job from this process, saying why, with exit code `code`: a limit of MPI's (its
+// counts and offsets are int) met on one process, whose others are already inside the
+// collective and would wait for ever; a failure process 0 did not end the job for.
+[[noreturn]] void abort_job(const std::string& why, int code = 1) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   std::fprintf(stderr, "tsubu: process %d: %s\n", rank, why.c_str());
-  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, code);
   std::abort();  // MPI_Abort does not return
 }
 
@@ -135,11 +137,7 @@ void Communicator::report_failure(int code, const std::string& kind, const std::
       std::this_thread::sleep_for(std::chrono::milliseconds(done ? 50 : 1));
     }
   }
-  const std::size_t from = kind.find_first_not_of('\n');  // a progress line's break: not here
-  std::fprintf(stderr, "tsubu: process %d: %s%s\n", rank_, kind.substr(from == std::string::npos ? kind.size() : from).c_str(),
-               message.c_str());
-  std::fflush(stderr);
-  end_job(code);
+  abort_job(kind + message, code);
 }
 
 std::vector<std::string> Communicator::exchange(const std::vector<std::string>& to_each) const {
