@@ -28,6 +28,10 @@ SETTLE = str(ROOT / "tests/scenarios/settle_mono.toml")
 INFLOW = str(ROOT / "tests/scenarios/inflow_small.toml")
 # A short poured bed with a checkpoint every 500 steps and frames.
 SETS = ["simulation.duration=0.03", "output.checkpoint_every_steps=500", "output.vtk_interval=0.01"]
+# The same bed poured for longer, for the faults: a kill up to 0.5 s after the first checkpoint
+# lands before the end even on a fast machine (20000 steps take 1.4 s on 2 processes there).
+LONG = ["simulation.duration=0.2"] + SETS[1:]
+MAX_KILL_DELAY = 0.5
 TIMEOUT = 600
 
 failures = []
@@ -116,15 +120,19 @@ def main():
 
         # Faults: process 1 killed (SIGKILL) after the first checkpoint ends the job, which
         # resumes from its last good checkpoint; so does the whole job killed at a random time.
+        alone_long = tmp / "alone_long"
+        code, err = run(tsubu, launcher, 1, ["run", SETTLE, "--out", str(alone_long)] + with_sets(LONG))
+        assert code == 0, err
         for name, whole, resumed_on in (("killed1", False, 2), ("killedall", True, 3)):
             out = tmp / name
-            p = subprocess.Popen(tsubu_cmd(tsubu, launcher, 2, ["run", SETTLE, "--out", str(out)] + with_sets(SETS)),
+            p = subprocess.Popen(tsubu_cmd(tsubu, launcher, 2, ["run", SETTLE, "--out", str(out)] + with_sets(LONG)),
                                  stderr=subprocess.PIPE, text=True)
             while not any((out / "checkpoint").glob("step_*.tsbk")):
                 time.sleep(0.02)
                 assert p.poll() is None, p.stderr.read()
-            delay = random.uniform(0.0, 0.5) if whole else 0.0
+            delay = random.uniform(0.0, MAX_KILL_DELAY) if whole else 0.0
             time.sleep(delay)
+            assert p.poll() is None, f"the run ended {delay:.2f} s after its first checkpoint, before the kill: lengthen LONG"
             # Open MPI puts its processes in process groups of their own: each is killed.
             for pid in [process_of(p.pid, 0), process_of(p.pid, 1), p.pid] if whole else [process_of(p.pid, 1)]:
                 os.kill(pid, signal.SIGKILL)
@@ -134,7 +142,7 @@ def main():
                       f"process 1 killed: the job ends, saying so ({p.returncode}: {err[-300:]})")
             code, err = run(tsubu, launcher, resumed_on, ["resume", str(out)])
             check(code == 0, f"{name}: resumes on {resumed_on} processes ({code}: {err[-400:]})")
-            same_files(alone, out, f"{'the whole job' if whole else 'process 1'} killed ({delay:.2f} s after the first "
+            same_files(alone_long, out, f"{'the whole job' if whole else 'process 1'} killed ({delay:.2f} s after the first "
                                    f"checkpoint), resumed on {resumed_on}")
 
         # Rolling resistance (EPSD): its spring, a contact history slot, is handed over and
