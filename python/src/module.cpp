@@ -86,7 +86,7 @@ Scenario scenario_from(const py::object& source, const py::object& overrides) {
 void make_read_only(py::array& a) { py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_; }
 
 // A per-particle array as NumPy: shape (n,) or, for Vec3, (n, 3) float64. A view into the
-// particle store kept alive by `owner` while the storage cannot move (no inflow; spatial
+// particle store kept alive by `owner` while the storage cannot move (no inflow, no open face; spatial
 // sorting permutes in place), else a copy; copies are read-only, views writable if asked.
 template <class T>
 py::array particle_array(PySimulation& self, py::handle owner, std::vector<T>& v, bool writable) {
@@ -95,7 +95,7 @@ py::array particle_array(PySimulation& self, py::handle owner, std::vector<T>& v
   std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(v.size())}, strides{sizeof(T)};
   if constexpr (vec3) shape.push_back(3), strides.push_back(sizeof(double));
   auto* data = reinterpret_cast<Scalar*>(v.data());
-  const bool view = !self.idle().has_inflow() && !v.empty();
+  const bool view = !self.idle().count_changes() && !v.empty();
   py::array a = view ? py::array(py::dtype::of<Scalar>(), shape, strides, data, owner)
                      : py::array(py::dtype::of<Scalar>(), shape, strides, data);
   if (!(view && writable)) make_read_only(a);

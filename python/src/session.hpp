@@ -41,8 +41,9 @@ class Session {
   World& world() { return sim_.world(); }
   const World& world() const { return sim_.world(); }
   const Model& model() const { return sim_.model(); }
-  // The particle count can change between steps (grains enter): arrays are copied, not viewed.
-  bool has_inflow() const { return sim_.inflow() != nullptr; }
+  // The particle count can change between steps (grains enter, or leave through an open
+  // face): arrays are copied, not viewed.
+  bool count_changes() const { return sim_.inflow() != nullptr || sim_.outflow() != nullptr; }
   // Whether the force field's per-contact results belong to the current contact lists: not
   // after a resume until the next step (a checkpoint stores forces, not contact results).
   bool contacts_evaluated() const;

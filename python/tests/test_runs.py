@@ -262,3 +262,18 @@ def test_dataframes(run_dir, monkeypatch):
     run = read_run(run_dir, dataframes=True)
     assert isinstance(run.series, DataFrame) and run.series.table.tobytes() == read_run(run_dir).series.tobytes()
     assert isinstance(run.track, DataFrame)
+
+
+def test_outflow(run_dir, tmp_path):
+    """A box with an open face (tests/scenarios/chute_open.toml): run.outflow holds the grains
+    gone through it, as many as series.csv and run.json count, and None for a closed box."""
+    out = tmp_path / "chute"
+    subprocess.run([TSUBU, "run", str(ROOT / "tests/scenarios/chute_open.toml"), "--out", str(out),
+                    "--set", "simulation.duration=0.1"], check=True, capture_output=True)
+    run = read_run(out)
+    assert len(run.outflow) > 0
+    assert set(run.outflow["face"]) == {"x_max"}
+    assert np.all(run.outflow["x"] > 0.04) and np.all(np.diff(run.outflow["time"]) >= 0)
+    assert run.series["outflow_count"][-1] == len(run.outflow) == run.results["outflow_count"]
+    assert run.series["outflow_mass"][-1] == pytest.approx(run.outflow["mass"].sum(), rel=1e-12)
+    assert read_run(run_dir).outflow is None

@@ -4,6 +4,7 @@
     run.summary["status"], run.results["porosity"]    # run.json
     run.series["time"], run.series["contacts"]        # series.csv, a NumPy structured array
     run.tracks[7]["z"]                                # track.csv rows of particle 7
+    run.outflow["id"], run.outflow["time"]            # outflow.csv: grains gone through open faces
     run.frames.times, run.frame(-1)["diameter"]       # the particle frames (.pvd, .vtu)
 
 The frames are found through the .pvd collections anywhere in the folder (whatever the
@@ -316,6 +317,9 @@ class Run:
         tracks = {} if track is None else {int(i): track[track["id"] == i] for i in np.unique(track["id"])}
         self.series, self.track = _as_frame(series, dataframes), _as_frame(track, dataframes)
         self.tracks = {i: _as_frame(rows, dataframes) for i, rows in tracks.items()}
+        # outflow.csv (a box with open faces): numbers, and the face's name as text.
+        outflow = self.path / "outflow.csv"
+        self.outflow = _as_frame(read_table(outflow), dataframes) if outflow.is_file() else None
         self.collections = {}
         for pvd in sorted(p for p in self.path.rglob("*.pvd") if "checkpoint" not in p.relative_to(self.path).parts):
             collection = Collection(pvd, use_vtk, dataframes)

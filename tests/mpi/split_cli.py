@@ -195,6 +195,7 @@ def main():
         # What a split run does not support yet, and the one-process commands.
         for scenario, sets, key in [
             ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
+            ("tests/scenarios/chute_open.toml", [], "domain.open"),
             ("tests/scenarios/settle_mono.toml", ["parallel.counts=[2, 2, 1]"],
              "parallel.counts: no grid of 2 subdomains (mpirun -np 2) has 2 x 2 x 1"),
         ]:

@@ -57,6 +57,7 @@ int interrupt_after_first_checkpoint(pid_t pid, const fs::path& out, int sig, in
 void expect_same_outputs(const fs::path& ref, const fs::path& out, bool extended = false) {
   std::vector<fs::path> files = {"series.csv"};
   if (fs::exists(ref / "track.csv")) files.push_back("track.csv");
+  if (fs::exists(ref / "outflow.csv")) files.push_back("outflow.csv");
   std::size_t frames = 0;  // every file of frames/: particles, contact network, walls, indexes
   for (const auto& e : fs::directory_iterator(ref / "frames"))
     files.push_back(fs::path("frames") / e.path().filename()), frames += e.path().extension() == ".vtu";
@@ -435,6 +436,42 @@ void expect_inflow_resume_bit_identical(const std::vector<std::string>& sets) {
   expect_same_outputs(ref, cut);
   EXPECT_EQ(slurp(ref / "run.json").substr(slurp(ref / "run.json").find("\"results\"")),
             slurp(cut / "run.json").substr(slurp(cut / "run.json").find("\"results\"")));
+}
+
+// Open faces (tests/scenarios/chute_open.toml, grains leaving a chute's open end): a run ended
+// at t = 0.15 s in mid-discharge, its newest checkpoint lost, resumes from t = 0.1 s to 0.2 s:
+// outflow.csv is cut back to its rows at the checkpoint and written again, the totals go on
+// from the checkpoint's, and every output ends as the uninterrupted run's.
+TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  auto args = [&](const fs::path& out, const char* duration) {
+    return std::vector<std::string>{"run", (kScenarios / "chute_open.toml").string(), "--out", out.string(), "--set",
+                                    "output.checkpoint_every_steps=10000", "--set", "output.vtk_interval=0.04", "--set",
+                                    std::string("simulation.duration=") + duration};
+  };
+  ASSERT_EQ(run(args(ref, "0.2"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  ASSERT_EQ(run(args(cut, "0.15"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
+  const auto checkpoints = list_checkpoints(cut / "checkpoint");
+  ASSERT_EQ(checkpoints.size(), 2u);
+  fs::remove(checkpoints.front());
+  const Checkpoint c = read_checkpoint(checkpoints.back());
+  ASSERT_TRUE(c.departed.present);
+  const std::string rows = slurp(cut / "outflow.csv");
+  std::printf("checkpoint at t = %g s: %lld grains gone, outflow.csv %llu of %zu bytes\n", c.time,
+              static_cast<long long>(c.departed.totals.count), static_cast<unsigned long long>(c.output.outflow_bytes),
+              rows.size());
+  EXPECT_GT(c.departed.totals.count, 0);                  // some left before the checkpoint
+  EXPECT_LT(c.output.outflow_bytes + 100, rows.size());  // and more after it, rows the resume cuts
+  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=0.2"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut, true);  // the state's record of the --set values differs
+  const auto results = [](const fs::path& out) {
+    const std::string json = slurp(out / "run.json");
+    return json.substr(json.find("\"results\""));
+  };
+  EXPECT_NE(results(ref).find("\"outflow_count\""), std::string::npos) << results(ref);
+  EXPECT_EQ(results(ref), results(cut));
 }
 
 TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_VelocityVerlet) {

@@ -23,7 +23,7 @@ static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
               "Particles changed: write the new array in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(ContactHistory) == 8 * sizeof(double),
               "ContactHistory changed: write the new field in encode_checkpoint/decode_checkpoint");
-static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::pvd) + 2 * sizeof(std::uint64_t),
+static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::pvd) + 3 * sizeof(std::uint64_t),
               "OutputState changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(EnergyWatch::State) == 3 * sizeof(double),
               "EnergyWatch::State changed: write the new field in encode_checkpoint/decode_checkpoint");
@@ -32,7 +32,7 @@ static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector
                                         sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
                                         2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State) +
                                         sizeof(Checkpoint::BlockSteps) + sizeof(Checkpoint::Inflow) +
-                                        sizeof(Checkpoint::Record),
+                                        sizeof(Checkpoint::Record) + sizeof(Checkpoint::Departed),
               "Checkpoint changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(HermiteState) == 6 * sizeof(std::vector<double>) &&
                   sizeof(BlockStepStats) == 2 * sizeof(std::uint64_t) + 3 * sizeof(std::vector<std::uint64_t>) &&
@@ -262,6 +262,13 @@ void write_payload(const Checkpoint& c, Writer& w) {
     w.pod(c.record.loop_steps);
     w.pod(c.record.loop_sessions);
   }
+  if (c.departed.present) {
+    w.pod(std::uint8_t{4});
+    w.pod(c.departed.totals.count);
+    w.pod(c.departed.totals.mass);
+    w.pod(c.departed.totals.inflow_mass);
+    w.u64(c.output.outflow_bytes);
+  }
 }
 
 }  // namespace
@@ -325,7 +332,8 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   const auto started = r.pod<std::uint8_t>();
   if (started > 1) throw CheckpointError("corrupted: energy-watch flag is neither 0 nor 1");
   c.energy_watch = {started == 1, r.pod<double>(), r.pod<double>()};
-  // Optional sections, each once and in this order: 1 block steps, 2 inflow, 3 the record.
+  // Optional sections, each once and in this order: 1 block steps, 2 inflow, 3 the record,
+  // 4 the departed grains.
   int section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   if (section == 1) {
     Checkpoint::BlockSteps& b = c.block;
@@ -357,6 +365,14 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
     record.loop_seconds = r.pod<double>();
     record.loop_steps = r.pod<std::int64_t>();
     record.loop_sessions = r.pod<std::int64_t>();
+    section = r.at_end() ? -1 : r.pod<std::uint8_t>();
+  }
+  if (section == 4) {
+    c.departed.present = true;
+    c.departed.totals.count = r.pod<std::int64_t>();
+    c.departed.totals.mass = r.pod<double>();
+    c.departed.totals.inflow_mass = r.pod<double>();
+    c.output.outflow_bytes = r.u64();
     section = r.at_end() ? -1 : r.pod<std::uint8_t>();
   }
   if (section != -1) throw CheckpointError("corrupted: unknown section " + std::to_string(section) + " after the energy watch");

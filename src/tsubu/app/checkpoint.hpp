@@ -11,16 +11,18 @@
 #include "tsubu/analysis/energy_watch.hpp"
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/sim/outflow.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
 
-// The output files' state at the checkpoint: a resumed run truncates series.csv and
-// track.csv to these sizes and continues the frame numbering and the .pvd index.
+// The output files' state at the checkpoint: a resumed run truncates series.csv, track.csv
+// and outflow.csv to these sizes and continues the frame numbering and the .pvd index.
 struct OutputState {
   std::int64_t frame = 0;                            // next frame number
   std::vector<std::pair<double, std::string>> pvd;  // (time, file) of the frames so far
   std::uint64_t series_bytes = 0, track_bytes = 0;
+  std::uint64_t outflow_bytes = 0;  // stored in the section of the departed grains
 };
 
 struct Checkpoint {
@@ -65,6 +67,12 @@ struct Checkpoint {
     std::int64_t loop_steps = 0;   // their steps
     std::int64_t loop_sessions = 0;  // the sessions these cover
   } record;
+  // Runs with open faces only (an optional section after the record): the totals of the
+  // grains gone through them (Outflow::Totals), and output.outflow_bytes.
+  struct Departed {
+    bool present = false;
+    Outflow::Totals totals;
+  } departed;
 };
 
 // A checkpoint file that cannot be used (missing, truncated, corrupted, other version).

@@ -25,6 +25,7 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
                                             "an automatic count, or start as many processes as the counts make");
   }
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
+  if (sc.domain.any_open()) refuse("domain.open");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
                      std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "

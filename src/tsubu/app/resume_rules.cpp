@@ -78,6 +78,7 @@ void refuse_losing_rows(const Scenario& sc, const Checkpoint& c, const std::file
   };
   look("series.csv", c.output.series_bytes);
   if (!sc.output.track.empty()) look("track.csv", c.output.track_bytes);
+  if (sc.domain.any_open()) look("outflow.csv", c.output.outflow_bytes);
   if (lost.empty()) return;
   throw UsageError(out_dir + " holds " + lost + " past t = " + format_number(end) + " s, up to t = " + format_number(last) +
                    " s: the end of the run as " + used.string() + " continues it (simulation.duration = " +

@@ -26,6 +26,18 @@ void reopen(CheckedFile& f, const fs::path& path, std::uint64_t bytes) {
   f.open(path, CheckedFile::Mode::append);
 }
 
+// A table of full-precision rows: opened fresh with its header, or for a resume continued
+// from its size at the checkpoint (`bytes`).
+void open_table(CheckedFile& f, const fs::path& path, std::optional<std::uint64_t> bytes, const char* header) {
+  if (bytes) {
+    reopen(f, path, *bytes);
+  } else {
+    f.open(path);
+    f << header;
+  }
+  f << std::setprecision(17);
+}
+
 // The data rows of a CSV file: its lines after the header.
 std::size_t data_rows(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -40,6 +52,7 @@ RunFiles::RunFiles(const Scenario& sc, const Simulation& sim, const fs::path& ou
     : sc_(sc),
       series_path_(out_dir / "series.csv"),
       track_path_(out_dir / "track.csv"),
+      outflow_path_(out_dir / "outflow.csv"),
       frames_(out_dir, sc.output.contacts, !sim.world().walls.empty()) {
   for (std::size_t k = 0; k < sc.walls.size(); ++k)
     if (!sc.walls[k].motion.empty()) moving_walls_.push_back(k);
@@ -57,15 +70,12 @@ RunFiles::RunFiles(const Scenario& sc, const Simulation& sim, const fs::path& ou
     if (a.kind == AnalysisSpec::Kind::profiles)
       profiles_.emplace(a, out_dir / "profiles", from ? std::optional(data_rows(series_path_)) : std::nullopt);
   if (from) frames_.restore(from->output.pvd);
-  if (!sc.output.track.empty()) {
-    if (from) {
-      reopen(track_, track_path_, from->output.track_bytes);
-    } else {
-      track_.open(track_path_);
-      track_ << "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n";
-    }
-    track_ << std::setprecision(17);
-  }
+  if (!sc.output.track.empty())
+    open_table(track_, track_path_, from ? std::optional(from->output.track_bytes) : std::nullopt,
+               "time,id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,contacts\n");
+  if (sim.outflow())
+    open_table(outflow_, outflow_path_, from ? std::optional(from->output.outflow_bytes) : std::nullopt,
+               "time,id,face,diameter,mass,x,y,z,vx,vy,vz\n");
 }
 
 void RunFiles::series_row(const Simulation& sim, const Energies& e, const ContactTotals& c,
@@ -78,7 +88,8 @@ void RunFiles::series_row(const Simulation& sim, const Energies& e, const Contac
             << sim.forces().wall_load(world, k);
   if (sim.block())  // particles per level (step dt/2^k)
     for (std::size_t n : sim.block()->level_histogram()) series_ << ',' << n;
-  if (const InflowFeed* inflow = sim.inflow()) series_ << ',' << world.particles.size() << ',' << inflow->mass_entered(world);
+  if (sim.inflow()) series_ << ',' << world.particles.size() << ',' << sim.inflow_mass_entered();
+  if (const Outflow* outflow = sim.outflow()) series_ << ',' << outflow->totals().count << ',' << outflow->totals().mass;
   for (double v : analyses) series_ << ',' << v;
   series_ << '\n';
   if (profiles_) profiles_->write(world);
@@ -102,15 +113,25 @@ void RunFiles::track_rows(const World& world) {
   }
 }
 
+void RunFiles::departure_rows(const std::vector<Departure>& departures) {
+  for (const Departure& d : departures) {
+    const Vec3 &x = d.position, &v = d.velocity;
+    outflow_ << d.time << ',' << d.id << ',' << open_face_name(d.face) << ',' << d.diameter << ',' << d.mass << ',' << x.x
+             << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ',' << v.z << '\n';
+  }
+}
+
 void RunFiles::flush() {
   series_.flush();
   if (track_.is_open()) track_.flush();
+  if (outflow_.is_open()) outflow_.flush();
   if (profiles_) profiles_->flush();
 }
 
 void RunFiles::sync() {
   sync_file(series_path_);
   if (track_.is_open()) sync_file(track_path_);
+  if (outflow_.is_open()) sync_file(outflow_path_);
   if (profiles_)
     for (const fs::path& f : profiles_->paths()) sync_file(f);
   for (const auto& f : frames_.unsynced()) sync_file(f);
@@ -123,12 +144,14 @@ OutputState RunFiles::state() const {
   s.pvd = frames_.frames();
   s.series_bytes = fs::file_size(series_path_);
   s.track_bytes = track_.is_open() ? fs::file_size(track_path_) : 0;
+  s.outflow_bytes = outflow_.is_open() ? fs::file_size(outflow_path_) : 0;
   return s;
 }
 
 void RunFiles::close() {
   series_.close();
   track_.close();
+  outflow_.close();
   if (profiles_) profiles_->close();
 }
 

@@ -1,5 +1,5 @@
 // The files a run writes as it goes (docs/cli.md, output folder): series.csv, track.csv,
-// profiles/ and frames/. Opened fresh, or for a resume cut back to the sizes its checkpoint
+// outflow.csv, profiles/ and frames/. Opened fresh, or for a resume cut back to the sizes its checkpoint
 // recorded (the rows after it are written again, the same bits); written row by row;
 // flushed at least every second; synced before a checkpoint refers to them.
 #pragma once
@@ -32,6 +32,8 @@ class RunFiles {
   void series_row(const Simulation& sim, const Energies& e, const ContactTotals& c, const std::vector<double>& analyses);
   // track.csv rows of the tracked grains present now.
   void track_rows(const World& world);
+  // outflow.csv rows: grains gone through an open face.
+  void departure_rows(const std::vector<Departure>& departures);
   // The next VTK frame.
   void frame(const Simulation& sim) { frames_.write(sim.world(), sim.forces()); }
   // Rows reach the files (tail -f, a kill before the first checkpoint): flushed, not synced.
@@ -44,8 +46,8 @@ class RunFiles {
 
  private:
   const Scenario& sc_;
-  std::filesystem::path series_path_, track_path_;
-  CheckedFile series_, track_;
+  std::filesystem::path series_path_, track_path_, outflow_path_;
+  CheckedFile series_, track_, outflow_;
   std::optional<ProfileWriter> profiles_;
   FrameSeries frames_;
   std::vector<std::size_t> moving_walls_;  // walls with a motion: two series columns each

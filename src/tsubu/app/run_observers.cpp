@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "tsubu/analysis/grain_sizes.hpp"
@@ -55,7 +56,12 @@ void RunObservers::resumed(const Simulation& sim) {
   stop_reason_ = monitor_.stop_reason(inflow_ended(sim));
 }
 
-bool RunObservers::after_step(const Simulation& sim, std::int64_t step, std::int64_t last_step) {
+void RunObservers::departures(Simulation& sim) {
+  if (Outflow* outflow = sim.outflow()) files_.departure_rows(outflow->take_departures());
+}
+
+bool RunObservers::after_step(Simulation& sim, std::int64_t step, std::int64_t last_step) {
+  departures(sim);
   if (step % series_every_ == 0 || step == last_step) series_row(sim);
   const bool last = step == last_step || !stop_reason_.empty();
   if (step % track_every_ == 0 || last) files_.track_rows(sim.world());
@@ -90,11 +96,20 @@ void RunObservers::add_results(const Simulation& sim, RunSummary& summary) {
     for (const std::string& unit : analysis_result_units(a)) summary.result_units.push_back(unit);
   summary.result_order = monitor_.names();
   if (const InflowFeed* inflow = sim.inflow())
-    for (const auto& [name, value] : inflow->results(world)) {
+    for (const auto& [name, value] : inflow->results(world.time, sim.inflow_mass_entered())) {
       summary.results[name] = value;
       summary.result_order.push_back(name);
       summary.result_units.push_back(inflow_result_unit(name));
     }
+  if (const Outflow* outflow = sim.outflow()) {
+    const Outflow::Totals& t = outflow->totals();
+    for (const auto& [name, value, unit] : {std::tuple("outflow_count", static_cast<double>(t.count), ""),
+                                            std::tuple("outflow_mass", t.mass, "kg")}) {
+      summary.results[name] = value;
+      summary.result_order.push_back(name);
+      summary.result_units.push_back(unit);
+    }
+  }
   summary.sources = source_sizes(world);
 }
 

@@ -31,7 +31,10 @@ class RunObservers {
   // After step `step` of a run that ends at `last_step`: the rows and frames due (the last
   // step's, or the one a [[stop]] condition ends, writes them all). Returns whether the run
   // ends here.
-  bool after_step(const Simulation& sim, std::int64_t step, std::int64_t last_step);
+  bool after_step(Simulation& sim, std::int64_t step, std::int64_t last_step);
+  // The grains gone through an open face since the last call, as outflow.csv rows (after
+  // every step, and before a failure is recorded).
+  void departures(Simulation& sim);
   // Whether after_step reads the state at `step` (writes a row or a frame).
   bool reads_state(std::int64_t step, std::int64_t last_step) const {
     return step == last_step || step % series_every_ == 0 || step % track_every_ == 0 || (vtk_every_ && step % vtk_every_ == 0);

@@ -117,6 +117,7 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
   // A failure: the outputs so far flushed, run.json `failed` with its message and the last
   // good checkpoint named; returns that message.
   auto failed = [&](const std::string& what) {
+    observers.departures(sim);
     observers.flush(clock);
     const std::string msg = what + checkpoints.kept();
     end_with("failed", msg);

@@ -35,6 +35,7 @@ void store_simulation(const Scenario& sc, const Simulation& sim, Checkpoint& c) 
   c.wall_velocities.clear();
   for (const Wall& w : world.walls) c.wall_points.push_back(w.point), c.wall_velocities.push_back(w.velocity);
   if (const InflowFeed* inflow = sim.inflow()) c.inflow = {true, inflow->first_id(), inflow->state()};
+  if (const Outflow* outflow = sim.outflow()) c.departed = {true, outflow->totals()};
 }
 
 Simulation new_simulation(const Scenario& sc) {
@@ -115,6 +116,10 @@ Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::file
     InflowFeed inflow(sc, *src, c.inflow.first_id);
     inflow.restore(c.inflow.state);
     sim.feed(std::move(inflow));
+  }
+  if (Outflow* outflow = sim.outflow()) {
+    if (!c.departed.present) throw std::runtime_error(used.string() + ": lacks the totals of the grains gone through the open faces");
+    outflow->restore(c.departed.totals);
   }
   return sim;
 }

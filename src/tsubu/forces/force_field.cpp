@@ -36,6 +36,7 @@ void ForceField::follow_lists(const ContactList& contacts) {
 void ForceField::renumbered(const World& world) {
   if (keeps_records_) follow_lists(world.contacts);  // fixed steps' records are remade at the rebuild
   built_at_.clear();
+  admitted_ = std::min(admitted_, world.particles.size());  // some may have been removed
 }
 
 namespace {

@@ -174,8 +174,8 @@ class ForceField {
     body.torque = fl.torque;
     return body;
   }
-  // The world's particles were renumbered (sort_spatially): the contact records follow
-  // their contacts; the lists are rebuilt at the next evaluation.
+  // The world's particles were renumbered (sort_spatially) or some removed (Outflow): the
+  // contact records follow their contacts; the lists are rebuilt at the next evaluation.
   void renumbered(const World& world);
   // A run split among processes: `n` (which must outlive the field) updates the other
   // processes' particles before every evaluation; null for a run in one process.

@@ -15,7 +15,7 @@ namespace {
 [[noreturn]] void report_lost(const World& world) {
   const Particles& p = world.particles;
   std::size_t i = 0;
-  while (i + 1 < p.size() && world.domain.inside(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
+  while (i + 1 < p.size() && world.domain.kept(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
   const Vec3 x = p.position[i], v = p.velocity[i];
   // The drift belongs to the step under way: the counter advances after it.
   const std::int64_t step = world.step + 1;
@@ -50,7 +50,7 @@ void kick_drift(World& world, double h_kick, double h_drift) {
       p.omega[i] += p.torque[i] * (h_kick / p.inertia[i]);
       const Vec3 x = world.domain.wrap(p.position[i] + p.velocity[i] * h_drift);
       p.position[i] = x;
-      any |= !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
+      any |= !(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z));
     }
     lost[static_cast<std::size_t>(t)] = any;
   });

@@ -28,8 +28,8 @@ inline constexpr std::array kIntegrators = {Integrator::velocity_verlet, Integra
 // The phases of a fixed step. Forces are divided by the translational mass (mass plus the
 // fluid's added mass).
 // v <- v + F/m h_kick, x <- x + v h_drift wrapped into the periodic box (omega likewise), the
-// walls moved by h_drift; a particle that is not finite or has left a non-periodic side of
-// the box stops the run (NumericalError).
+// walls moved by h_drift; a particle that is not finite or has left the box through a side
+// neither periodic nor open stops the run (NumericalError).
 void kick_drift(World& world, double h_kick, double h_drift);
 // v <- v + F/m h (omega likewise). Both move only the particles the process owns.
 void kick(World& world, double h);

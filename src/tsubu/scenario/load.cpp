@@ -185,6 +185,21 @@ void read_domain(Section s, Scenario& sc) {
       s.fail("periodic", "\"" + axis + "\" is not an axis; allowed: \"x\", \"y\", \"z\"");
     sc.domain.periodic[static_cast<std::size_t>(axis[0] - 'x')] = true;
   }
+  static const std::array<std::string, 6> faces = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+  for (const std::string& face : s.texts("open", {})) {
+    const auto at = std::find(faces.begin(), faces.end(), face);
+    if (at == faces.end())
+      s.fail("open", "\"" + face + "\" is not a face of the box; allowed: \"x_min\", \"x_max\", \"y_min\", \"y_max\", "
+                     "\"z_min\", \"z_max\"");
+    const auto f = static_cast<std::size_t>(at - faces.begin());
+    if (sc.domain.periodic[f / 2])
+      s.fail("open", "\"" + face + "\": the " + std::string(1, static_cast<char>('x' + f / 2)) +
+                         " axis is periodic; a face is either open or periodic");
+    if (sc.integrator == Integrator::block_hermite)
+      s.fail("open", "open faces need a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
+                     "\"symplectic_euler\"); block steps cannot remove grains yet");
+    sc.domain.open[f / 2][f % 2] = true;
+  }
   s.finish();
 }
 

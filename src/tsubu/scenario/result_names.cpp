@@ -32,6 +32,7 @@ std::vector<std::string> series_columns(const Scenario& sc) {
   if (sc.integrator == Integrator::block_hermite)
     for (int k = 0; k <= sc.block_steps.levels; ++k) columns.push_back("level" + std::to_string(k));
   if (inflow_source(sc)) columns.insert(columns.end(), {"particles", "inflow_mass"});
+  if (sc.domain.any_open()) columns.insert(columns.end(), {"outflow_count", "outflow_mass"});
   return columns;
 }
 

@@ -16,7 +16,7 @@ void InflowFeed::admit(const World& w, Particles& arrivals, const OverlapAgreeme
   admit_due(stream_, w.time, w.domain, w.particles, w.owned(), arrivals, material_, first_id_, agree);
 }
 
-double InflowFeed::mass_entered(const World& w) const {
+double InflowFeed::mass_in_box(const World& w) const {
   ExactSum mass;  // the same bits in any order of the particles (a split run's, a sorted run's)
   for (std::size_t i = 0; i < w.particles.size(); ++i)
     if (w.particles.id[i] >= first_id_) mass += w.particles.mass[i];
@@ -35,8 +35,8 @@ std::vector<std::pair<std::string, double>> results_of(const InflowColumn& c, co
 
 }  // namespace
 
-std::vector<std::pair<std::string, double>> InflowFeed::results(const World& w) const {
-  return results_of(stream_.column(), stream_.state(), w.time > 0 ? mass_entered(w) / w.time : 0.0);
+std::vector<std::pair<std::string, double>> InflowFeed::results(double time, double mass_entered) const {
+  return results_of(stream_.column(), stream_.state(), time > 0 ? mass_entered / time : 0.0);
 }
 
 std::string inflow_result_unit(const std::string& name) {

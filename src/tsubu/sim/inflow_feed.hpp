@@ -33,10 +33,10 @@ class InflowFeed {
   // The stream has released its last grain (its mass limit reached, none waiting).
   bool ended() const { return stream_.exhausted(); }
   // The mass of the inflow's grains in the box (kg).
-  double mass_entered(const World& w) const;
+  double mass_in_box(const World& w) const;
   // inflow_rates and inflow_counts (source/inflow.hpp), and inflow_F_measured: the mass
-  // entered over the time so far (kg/s; 0 at t = 0).
-  std::vector<std::pair<std::string, double>> results(const World& w) const;
+  // entered (Simulation::inflow_mass_entered) over the time so far (kg/s; 0 at t = 0).
+  std::vector<std::pair<std::string, double>> results(double time, double mass_entered) const;
 
   // The stream's state for checkpoints (encode_inflow_state), and back.
   std::string state() const { return encode_inflow_state(stream_.state()); }

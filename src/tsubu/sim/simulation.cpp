@@ -1,6 +1,7 @@
 #include "tsubu/sim/simulation.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "tsubu/world/spatial_sort.hpp"
 
@@ -9,6 +10,20 @@ namespace tsubu {
 Simulation::Simulation(World world, Model model, Integrator integrator, const BlockStepRules& block_steps)
     : model_(std::make_unique<const Model>(std::move(model))), world_(std::move(world)), integrator_(integrator) {
   if (integrator_ == Integrator::block_hermite) block_ = std::make_unique<BlockHermite>(block_steps);
+  if (world_.domain.any_open()) {
+    if (block_) throw std::logic_error("open faces with block steps (the scenario refuses them)");
+    outflow_.emplace();
+  }
+}
+
+void Simulation::feed(InflowFeed inflow) {
+  if (outflow_) outflow_->count_inflow_from(inflow.first_id());
+  inflow_.emplace(std::move(inflow));
+}
+
+double Simulation::inflow_mass_entered() const {
+  if (!inflow_) return 0;
+  return inflow_->mass_in_box(world_) + (outflow_ ? outflow_->totals().inflow_mass : 0.0);
 }
 
 void Simulation::start() {
@@ -28,6 +43,10 @@ void Simulation::step() {
 }
 
 void Simulation::evaluate(double fluid_lead) {
+  if (outflow_) {
+    forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
+    if (outflow_->remove_departed(world_)) forces_.renumbered(world_);
+  }
   if (sort_due()) renumber();
   forces_.compute(world_, fluid_lead);
 }

@@ -12,6 +12,7 @@
 #include "tsubu/integrate/block_hermite.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/sim/inflow_feed.hpp"
+#include "tsubu/sim/outflow.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -23,8 +24,16 @@ class Simulation {
 
   // The scenario's inflow, fed from now on: after start() and after every step the grains
   // due by then enter and join the run (particles_added).
-  void feed(InflowFeed inflow) { inflow_.emplace(std::move(inflow)); }
+  void feed(InflowFeed inflow);
   const InflowFeed* inflow() const { return inflow_ ? &*inflow_ : nullptr; }
+  // The mass of the inflow's grains that have entered the box (kg), those gone through an
+  // open face since included.
+  double inflow_mass_entered() const;
+
+  // The box's open faces (domain.open; fixed steps only): grains beyond one are removed
+  // before each force evaluation and recorded here. Null for a box without open faces.
+  Outflow* outflow() { return outflow_ ? &*outflow_ : nullptr; }
+  const Outflow* outflow() const { return outflow_ ? &*outflow_ : nullptr; }
 
   // A fresh run: the first force evaluation (and, for block steps, the first steps); then
   // the inflow's first grains enter.
@@ -67,10 +76,12 @@ class Simulation {
   Integrator integrator_;
   std::unique_ptr<BlockHermite> block_;
   std::optional<InflowFeed> inflow_;
+  std::optional<Outflow> outflow_;
 
   void admit_inflow();
   // The fixed steps' force evaluation at the state the step has reached (the integrators'
-  // callable): the sort schedule, then the force field.
+  // callable): the grains gone through an open face removed, the sort schedule, then the
+  // force field.
   void evaluate(double fluid_lead);
   bool sort_due() const;
   // One renumbering for every per-particle store: the world's particles and contacts, the

@@ -119,11 +119,36 @@ void ContactList::assign(std::vector<Contact> pairs, std::vector<Contact> walls,
   index(p);
 }
 
+namespace {
+
+// The entries of `list` whose particles stay, renumbered (new_index as ContactList::renumber
+// takes it; pairs: both particles); returns kept[m] = the index the m-th had.
+std::vector<std::uint32_t> keep_renumbered(std::vector<Contact>& list, const std::vector<std::uint32_t>& new_index,
+                                           bool pairs) {
+  std::vector<std::uint32_t> kept;
+  kept.reserve(list.size());
+  std::size_t m = 0;
+  for (std::uint32_t k = 0; k < list.size(); ++k) {
+    Contact c = list[k];
+    c.i = new_index[c.i];
+    if (pairs) c.j = new_index[c.j];  // still the smaller id first
+    if (c.i == ContactList::kGone || (pairs && c.j == ContactList::kGone)) continue;
+    list[m++] = c;
+    kept.push_back(k);
+  }
+  list.resize(m);
+  return kept;
+}
+
+}  // namespace
+
 void ContactList::renumber(const std::vector<std::uint32_t>& new_index, const Particles& p) {
-  for (Contact& c : pairs_) c.i = new_index[c.i], c.j = new_index[c.j];  // still the smaller id first
-  for (Contact& c : walls_) c.i = new_index[c.i];
+  const std::vector<std::uint32_t> kept_pairs = keep_renumbered(pairs_, new_index, true);
+  const std::vector<std::uint32_t> kept_walls = keep_renumbered(walls_, new_index, false);
   sort_pairs(pairs_, pair_origin_, p);
   sort_walls(walls_, wall_origin_);
+  for (std::uint32_t& o : pair_origin_) o = kept_pairs[o];
+  for (std::uint32_t& o : wall_origin_) o = kept_walls[o];
   index(p);
 }
 

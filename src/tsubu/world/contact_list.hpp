@@ -79,9 +79,10 @@ class ContactList {
   // Lists from elsewhere (a checkpoint, a test; histories stored from the smaller id, in
   // any order and with a pair's particles either way round), indexed over the particles p.
   void assign(std::vector<Contact> pairs, std::vector<Contact> walls, const Particles& p);
-  // The particles were renumbered (new_index[old] = new; p: the particles, already in their
-  // new order): the entries follow their particles and are sorted again. No history
-  // changes.
+  // The particles were renumbered (new_index[old] = new, or kGone for a particle removed;
+  // p: the particles, already in their new order): the entries follow their particles and
+  // are sorted again, those of a removed particle dropped. No history changes.
+  static constexpr std::uint32_t kGone = UINT32_MAX;
   void renumber(const std::vector<std::uint32_t>& new_index, const Particles& p);
 
   // Where each entry was in the lists before their last change (carry_*, renumber, assign):

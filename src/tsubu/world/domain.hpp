@@ -14,6 +14,10 @@ namespace tsubu {
 struct Domain {
   Vec3 lower, upper;                 // m
   std::array<bool, 3> periodic{};    // per axis x, y, z
+  // Open faces, per axis: [0] the lower face, [1] the upper. A grain whose centre crosses an
+  // open face has left the run (sim/outflow.hpp); across any other non-periodic face it is
+  // lost, and the run stops.
+  std::array<std::array<bool, 2>, 3> open{};
 
   double length(int k) const { return upper[k] - lower[k]; }
 
@@ -45,6 +49,23 @@ struct Domain {
       if (!periodic[k] && (x[k] < lower[k] || x[k] > upper[k])) return false;
     return true;
   }
+
+  bool any_open() const {
+    for (const auto& faces : open)
+      if (faces[0] || faces[1]) return true;
+    return false;
+  }
+  // The open face x has crossed, as 2 axis + side (0 lower, 1 upper; the first in x, y, z
+  // order), or -1 for none.
+  int departed(const Vec3& x) const {
+    for (int k = 0; k < 3; ++k) {
+      if (open[k][0] && x[k] < lower[k]) return 2 * k;
+      if (open[k][1] && x[k] > upper[k]) return 2 * k + 1;
+    }
+    return -1;
+  }
+  // Inside the box, or gone through an open face: a position the run goes on with.
+  bool kept(const Vec3& x) const { return inside(x) || departed(x) >= 0; }
 };
 
 // A stretch of prescribed wall motion: constant velocity until the time `until`.

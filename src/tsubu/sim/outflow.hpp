@@ -1,0 +1,56 @@
+// Open faces of the box (domain.open): a grain whose centre has crossed one has left the
+// run. Before each force evaluation of a fixed step the Simulation removes such grains from
+// the world, with their contacts, and the Outflow records each one (a Departure, the rows of
+// outflow.csv) and the totals (series.csv, run.json, checkpoints).
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "tsubu/world/world.hpp"
+
+namespace tsubu {
+
+// A grain that left through an open face: when (the step reached and its time), which, and
+// where and how fast it was when it was found beyond the face.
+struct Departure {
+  std::int64_t step = 0;
+  double time = 0;  // s
+  std::int64_t id = 0;
+  double diameter = 0, mass = 0;  // m, kg
+  Vec3 position, velocity;        // m, m/s
+  int face = 0;                   // Domain::departed's number
+};
+
+// The scenario's name of an open face from Domain::departed's number: "x_min" ... "z_max".
+const char* open_face_name(int face);
+
+class Outflow {
+ public:
+  struct Totals {
+    std::int64_t count = 0;
+    double mass = 0;         // kg, summed in the order of the departures
+    double inflow_mass = 0;  // kg, of the inflow's grains among them
+  };
+
+  // The grains of the inflow have ids from `first_id` on (their mass is also counted apart).
+  void count_inflow_from(std::int64_t first_id) { inflow_first_id_ = first_id; }
+
+  // Removes from w's particles (one process: no ghosts) those beyond an open face, recorded
+  // in the order of their ids; the others keep their order, and the contact lists follow
+  // (ContactList::renumber). Returns whether any grain left.
+  bool remove_departed(World& w);
+
+  const Totals& totals() const { return totals_; }
+  void restore(const Totals& t) { totals_ = t; }
+  // The departures since the last call, in the order they were recorded.
+  std::vector<Departure> take_departures() { return std::exchange(pending_, {}); }
+
+ private:
+  Totals totals_;
+  std::int64_t inflow_first_id_ = std::numeric_limits<std::int64_t>::max();
+  std::vector<Departure> pending_;
+};
+
+}  // namespace tsubu
