@@ -67,7 +67,7 @@ TEST(WallSurface, ATurningSurfacesVelocityHasTheRateOfThePathOverIt) {
   w.angular_velocity = {0, 0, 3};
   w.axis_offset = {0.2, -0.1, 0};
   const Vec3 x{0.3, 0.4, 0.01}, v{1.5, -0.7, 0.2};
-  const DualVec3 s = surface_velocity<Dual>(w, Motion<Dual>{x, DualVec3(v, {}), DualVec3()});
+  const DualVec3 s = surface_velocity<Dual>(w, Motion<Dual>{x, DualVec3(v, {}), DualVec3()}, w.touch(x));
   const double h = 1e-3;
   const Vec3 difference = (w.surface_velocity_at(x + h * v) - w.surface_velocity_at(x - h * v)) / (2 * h);
   const Vec3 rate{s.x.d, s.y.d, s.z.d};
@@ -75,7 +75,7 @@ TEST(WallSurface, ATurningSurfacesVelocityHasTheRateOfThePathOverIt) {
   EXPECT_LT(norm(value(s) - w.surface_velocity_at(x)), 1e-15);
   w.angular_velocity = {};  // a surface at rest: the wall's own velocity, its rate zero
   w.velocity = {0, 0, -0.2};
-  const DualVec3 still = surface_velocity<Dual>(w, Motion<Dual>{x, DualVec3(v, {}), DualVec3()});
+  const DualVec3 still = surface_velocity<Dual>(w, Motion<Dual>{x, DualVec3(v, {}), DualVec3()}, w.touch(x));
   EXPECT_EQ(value(still), w.velocity);
   EXPECT_EQ(Vec3(still.x.d, still.y.d, still.z.d), Vec3{});
 }

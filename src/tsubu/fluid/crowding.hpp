@@ -96,11 +96,12 @@ class CrowdList {
     }
     double room = ball_volume(R), room_rate = 0;
     for (const Wall& w : world.walls) {
-      const double dist = w.distance(self.x);
+      const WallTouch touch = w.touch(self.x);  // a plane (the scenario refuses other shapes here)
+      const double dist = touch.distance;
       if (dist >= R) continue;
       const VolumeSlope cap = cap_volume(R, dist);
       room -= cap.volume;
-      if (Rates) room_rate -= cap.slope * dot(self.v - w.velocity, w.normal);
+      if (Rates) room_rate -= cap.slope * dot(self.v - w.velocity, touch.normal);
     }
     const SuspensionFraction phi = suspension_fraction(solid, solid_rate, room, room_rate, ball_volume(r));
     return {phi.solid_fraction, phi.rate, exponent_[i]};

@@ -64,13 +64,14 @@ T with_rate(double x, double rate) {
   else return Dual(x, rate);
 }
 
-// The velocity of a wall's surface under the particle `a` (Wall::surface_velocity_at); on
-// Dual with its rate: the wall's own velocity is constant within a step, a turning surface's
-// changes as the particle moves over it (the angular velocity times the particle's velocity).
+// The velocity of a wall's surface under the particle `a` (Wall::surface_velocity_at, t its
+// touch); on Dual with its rate: the wall's own velocity is constant within a step, a turning
+// plane's changes as the particle moves over it (the angular velocity times the particle's
+// velocity). Block steps take planes only (the scenario refuses other shapes).
 template <class T, class Motion>
-Vector<T> surface_velocity(const Wall& wall, const Motion& a) {
-  if constexpr (std::is_same_v<T, double>) return wall.surface_velocity_at(a.x);
-  else return DualVec3(wall.surface_velocity_at(a.x), wall.surface_moves() ? cross(wall.angular_velocity, value(a.v)) : Vec3{});
+Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t) {
+  if constexpr (std::is_same_v<T, double>) return wall.surface_velocity_at(a.x, t);
+  else return DualVec3(wall.surface_velocity_at(a.x, t), wall.surface_moves() ? cross(wall.angular_velocity, value(a.v)) : Vec3{});
 }
 
 // The law's models, called on the number type T: every law on double; on Dual only the laws
@@ -328,21 +329,23 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const Wall& wall = world.walls[c.j];
   const double r = p.radius[i];
   const auto a = state.at(i);
-  const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a);
-  const double dist = wall.distance(a.x);
-  // Touching from the front side only: a centre behind the plane has tunnelled through and
+  const WallTouch touch = wall.touch(a.x);
+  const Vec3& n = touch.normal;
+  const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a, touch);
+  const double dist = touch.distance;
+  // Touching from the front side only: a centre behind the surface has tunnelled through and
   // feels no force from it.
   const bool was_touching = c.touching;
   c.touching = dist < r && dist > 0;
   if (!c.touching) {
     c.history = {};
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
-      const double opening = dot(value(v_rel), wall.normal);
+      const double opening = dot(value(v_rel), n);
       const double released = was_touching ? release_age(dist - r, opening) : 0;
       const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
-                                                   -dot(rate(v_rel), wall.normal))
+                                                   -dot(rate(v_rel), n))
                                     : std::numeric_limits<double>::infinity();
-      wall_rates_[k] = {{}, {}, 0, bound, wall.normal, 0, 0, 0, released};
+      wall_rates_[k] = {{}, {}, 0, bound, n, 0, 0, 0, released};
     } else if (shifts_) {
       wall_results_.shift_i[k] = {};
     }
@@ -350,7 +353,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
     if (rolls_) wall_results_.rolling_i[k] = {};
     return;
   }
-  BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], wall.normal, with_rate<T>(dist, dot(value(v_rel), wall.normal)),
+  BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], n, with_rate<T>(dist, dot(value(v_rel), n)),
                                                v_rel, a.w);
   g.dt = state.step(i);
   if (rolls_) g.rolling_inertia = rolling_inertia(p, i);
@@ -359,7 +362,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   wall_results_.set(k, value(f.total), value(n_x_ft), value(g.delta), f.energy);
   if constexpr (kRates) {
     wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                      contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), wall.normal, f.damping,
+                      contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), n, f.damping,
                       f.tangential_damping, was_touching ? 0 : onset_age(g.delta)};
   } else {
     if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct

@@ -189,8 +189,8 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
   for_each_range(probe.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Centres in front of the plane (see evaluate_wall) and within the margin of touching.
-        const double dist = world.walls[w].distance(probe.position[i]);
+        // Centres in front of the surface (see evaluate_wall) and within the margin of touching.
+        const double dist = world.walls[w].touch(probe.position[i]).distance;
         const double reach = wall_reach.empty() ? 0.0 : wall_reach[w];
         if (dist < probe.radius[i] + margin + reach && dist > -margin)
           local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});

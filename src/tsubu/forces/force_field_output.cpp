@@ -22,7 +22,7 @@ std::vector<ContactRecord> ForceField::touching_contacts(const World& world) con
   }
   for (std::size_t k = 0; k < walls.size() && k < wall_results_.entry.size(); ++k) {
     const Contact& c = walls[k];
-    if (c.touching) add(c, wall_results_.entry[k], true, world.walls[c.j].normal);
+    if (c.touching) add(c, wall_results_.entry[k], true, world.walls[c.j].touch(p.position[c.i]).normal);
   }
   return out;
 }

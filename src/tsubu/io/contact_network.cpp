@@ -21,7 +21,8 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
     if (c.wall) {
       n.wall = static_cast<int>(c.j);
       const Wall& w = world.walls[c.j];
-      n.branch = -w.distance(n.centre_i) * w.normal;  // the foot of the centre on the plane
+      const WallTouch touch = w.touch(n.centre_i);
+      n.branch = -touch.distance * touch.normal;  // to the nearest point of the surface
     } else {
       n.id_j = p.id[c.j];
       n.branch = -world.domain.separation(n.centre_i, p.position[c.j]);

@@ -146,33 +146,55 @@ void write_contacts_vtp(const std::string& path, const std::vector<NetworkContac
   f.close();
 }
 
+namespace {
+
+// The extent of the box's corners along the unit vector u, from `from`.
+std::pair<double, double> box_extent(const Domain& domain, const Vec3& from, const Vec3& u) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 corner{c & 1 ? domain.upper.x : domain.lower.x, c & 2 ? domain.upper.y : domain.lower.y,
+                      c & 4 ? domain.upper.z : domain.lower.z};
+    lo = std::min(lo, dot(corner - from, u)), hi = std::max(hi, dot(corner - from, u));
+  }
+  return {lo, hi};
+}
+
+// A wall drawn as quadrilaterals over the box: a plane as one, the rectangle that covers
+// the box seen along its normal; a cylinder as kSides facets around its axis, over the box's
+// length along the axis. Appends their corners and each one's normal (towards the particles).
+void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, std::vector<Vec3>& normals) {
+  if (w.shape == WallShape::plane) {
+    const Vec3 u = perpendicular(w.normal), v = cross(w.normal, u);
+    const auto [u0, u1] = box_extent(domain, w.point, u);
+    const auto [v0, v1] = box_extent(domain, w.point, v);
+    for (const auto& [a, b] : {std::pair{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}}) points.push_back(w.point + a * u + b * v);
+    normals.push_back(w.normal);
+    return;
+  }
+  constexpr int kSides = 48;
+  const Vec3 u = perpendicular(w.axis), v = cross(w.axis, u);
+  const auto [s0, s1] = box_extent(domain, w.point, w.axis);
+  for (int k = 0; k < kSides; ++k) {
+    const double a0 = 2 * M_PI * k / kSides, a1 = 2 * M_PI * (k + 1) / kSides, mid = 0.5 * (a0 + a1);
+    const Vec3 r0 = w.radius * (std::cos(a0) * u + std::sin(a0) * v), r1 = w.radius * (std::cos(a1) * u + std::sin(a1) * v);
+    for (const auto& [r, s] : {std::pair{r0, s0}, {r1, s0}, {r1, s1}, {r0, s1}}) points.push_back(w.point + r + s * w.axis);
+    const Vec3 out = std::cos(mid) * u + std::sin(mid) * v;
+    normals.push_back(w.inside ? -out : out);
+  }
+}
+
+}  // namespace
+
 void write_walls_vtp(const std::string& path, const std::vector<Wall>& walls, const Domain& domain, double time) {
-  const std::size_t n = walls.size();
-  std::vector<Vec3> points, normal(n), velocity(n);
-  std::vector<std::int32_t> index(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Wall& w = walls[k];
-    // Tangents u, v of the plane: u across the axis least aligned with the normal.
-    int axis = 0;
-    for (int a = 1; a < 3; ++a)
-      if (std::abs(w.normal[a]) < std::abs(w.normal[axis])) axis = a;
-    Vec3 e;
-    e[axis] = 1;
-    const Vec3 u = cross(w.normal, e) / norm(cross(w.normal, e)), v = cross(w.normal, u);
-    // The box corners seen along the normal, in (u, v) about the wall's point.
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (int c = 0; c < 8; ++c) {
-      const Vec3 corner{c & 1 ? domain.upper.x : domain.lower.x, c & 2 ? domain.upper.y : domain.lower.y,
-                        c & 4 ? domain.upper.z : domain.lower.z};
-      const double at[2] = {dot(corner - w.point, u), dot(corner - w.point, v)};
-      for (int t = 0; t < 2; ++t) lo[t] = std::min(lo[t], at[t]), hi[t] = std::max(hi[t], at[t]);
-    }
-    for (const auto& [a, b] : {std::pair{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}})
-      points.push_back(w.point + a * u + b * v);
-    index[k] = static_cast<std::int32_t>(k), normal[k] = w.normal, velocity[k] = w.velocity;
+  std::vector<Vec3> points, normal, velocity;
+  std::vector<std::int32_t> index;
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    wall_quads(walls[k], domain, points, normal);
+    index.resize(normal.size(), static_cast<std::int32_t>(k));
+    velocity.resize(normal.size(), walls[k].velocity);
   }
   CheckedFile f(path);
-  open_polydata(f, time, "Polys", n, 4, points);
+  open_polydata(f, time, "Polys", normal.size(), 4, points);
   f << "<CellData Normals=\"normal\">\n";
   data_array(f, "Int32", "wall", 1, index);
   vec_array(f, "normal", normal);

@@ -257,8 +257,45 @@ void read_surface_motion(Section& s, Wall& w) {
   w.axis_offset = s.vec3("center", w.point) - w.point;
 }
 
+// A cylinder (shape = "cylinder"): its axis, radius and side; its surface may turn about
+// the axis. It does not move otherwise, and only the fixed steps take it.
+void read_cylinder(Section& s, const Scenario& sc, Wall& w) {
+  w.shape = WallShape::cylinder;
+  if (sc.integrator == Integrator::block_hermite)
+    s.fail("shape", "a cylinder needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
+                    "\"symplectic_euler\"); block steps take planes only yet");
+  if (sc.fluid.hindered)
+    s.fail("shape", "hindered settling measures the room a plane leaves a grain; a cylinder is not available with "
+                    "fluid.hindered_settling = true yet");
+  for (const char* key : {"normal", "motion", "surface_velocity", "center"})
+    if (s.has(key))
+      s.fail(key, std::string("is not a cylinder's: a cylinder takes point (on its axis), axis, radius, side, material and "
+                              "angular_velocity (about its axis); it does not move otherwise"));
+  w.point = s.vec3("point");
+  const Vec3 a = s.vec3("axis");
+  if (!std::isnormal(norm(a)))
+    s.fail("axis", "must be a non-zero vector along the cylinder, with components of ordinary size such as [0, 1, 0]; its "
+                   "length is " + num(norm(a)));
+  w.axis = a / norm(a);
+  w.radius = s.positive("radius");
+  w.inside = s.choice("side", {"inside", "outside"}, std::string("inside")) == "inside";
+  constexpr double kRounding = 1e-9;  // of the vector's length
+  const Vec3 omega = s.vec3("angular_velocity", {});
+  if (const double off = norm(cross(omega, w.axis)); off > kRounding * norm(omega))
+    s.fail("angular_velocity", "must be along the cylinder's axis (a drum turning: the rotation moves no geometry); its "
+                               "component across the axis is " + num(off) + " rad/s");
+  w.angular_velocity = dot(omega, w.axis) * w.axis;
+}
+
 void read_wall(Section s, Scenario& sc) {
   Wall w;
+  w.material = material_index(sc, s, "material");
+  if (s.choice("shape", {"plane", "cylinder"}, std::string("plane")) == "cylinder") {
+    read_cylinder(s, sc, w);
+    s.finish();
+    sc.walls.push_back(w);
+    return;
+  }
   w.point = s.vec3("point");
   const Vec3 n = s.vec3("normal");
   // Its length must be an ordinary double: zero, subnormal or overflowing lengths (1e200
@@ -266,7 +303,6 @@ void read_wall(Section s, Scenario& sc) {
   if (!std::isnormal(norm(n)))
     s.fail("normal", "must be a non-zero vector pointing towards the particles, with components of ordinary size such as [0, 0, 1]; its length is " + num(norm(n)));
   w.normal = n / norm(n);
-  w.material = material_index(sc, s, "material");
   double previous = 0;
   for (Section m : s.tables("motion")) {
     WallMotion stretch;

@@ -74,31 +74,72 @@ struct WallMotion {
   Vec3 velocity;     // m/s
 };
 
-// An infinite plane; `normal` is a unit vector pointing into the particles' side. A wall with
+// A unit vector perpendicular to the unit vector a.
+inline Vec3 perpendicular(const Vec3& a) {
+  int least = 0;  // the axis least aligned with a
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(a[k]) < std::abs(a[least])) least = k;
+  Vec3 e;
+  e[least] = 1;
+  const Vec3 u = cross(a, e);
+  return u / norm(u);
+}
+
+// Where a particle's centre stands against a wall: its distance from the surface along the
+// surface's normal at the nearest point (positive on the particles' side), and that unit
+// normal, pointing towards the particles.
+struct WallTouch {
+  double distance = 0;  // m
+  Vec3 normal;
+};
+
+enum class WallShape { plane, cylinder };
+
+// A plane: infinite; `normal` is a unit vector pointing into the particles' side. A wall with
 // a `motion` moves as a rigid plane: in each step with the velocity of the stretch that holds
 // the step's midpoint (standing still after the last stretch). Its surface may move besides,
 // within the plane, which moves no geometry (a conveyor belt, a turntable, a drum's end): a
 // velocity in the plane and a rotation about the normal. The velocity of the surface where a
 // particle touches it (surface_velocity_at) enters the relative velocity of the contact.
+//
+// A cylinder: infinitely long, about the line through `point` along the unit vector `axis`,
+// of `radius`, with the particles inside it or outside. Its surface may turn about its axis
+// (a rotating drum: the rotation moves no geometry); it does not move otherwise.
 struct Wall {
   Vec3 point;
-  Vec3 normal;
+  Vec3 normal;  // plane
   int material = 0;
   std::vector<WallMotion> motion;  // in time order; empty: a fixed wall
   Vec3 velocity;                   // m/s, during the current step
   Vec3 surface_velocity;           // m/s, in the plane
   Vec3 angular_velocity;           // rad/s, along the normal
   Vec3 axis_offset;                // m, a point of the rotation's axis, from `point` (it moves with the wall)
+  WallShape shape = WallShape::plane;
+  Vec3 axis;           // cylinder
+  double radius = 0;   // m, cylinder
+  bool inside = true;  // cylinder: the particles are inside it
 
+  // A plane's signed distance from x (positive on the particles' side).
   double distance(const Vec3& x) const { return dot(x - point, normal); }
 
-  bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
-  // The velocity of the surface at the foot of x on the plane (the rotation's part is the
-  // same at x itself, as the angular velocity is along the normal).
-  Vec3 surface_velocity_at(const Vec3& x) const {
-    if (!surface_moves()) return velocity;
-    return velocity + surface_velocity + cross(angular_velocity, x - (point + axis_offset));
+  WallTouch touch(const Vec3& x) const {
+    if (shape == WallShape::plane) return {distance(x), normal};
+    const Vec3 rel = x - point;
+    const Vec3 off = rel - dot(rel, axis) * axis;  // from the axis
+    const double rho = norm(off);
+    const Vec3 out = rho > 0 ? off / rho : perpendicular(axis);  // on the axis itself: any direction
+    return inside ? WallTouch{radius - rho, -out} : WallTouch{rho - radius, out};
   }
+
+  bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
+  // The velocity of the surface at the nearest point to x, where x touches it (t = touch(x)).
+  // A plane's rotation is about its normal: its part is the same at x itself, which is used.
+  Vec3 surface_velocity_at(const Vec3& x, const WallTouch& t) const {
+    if (!surface_moves()) return velocity;
+    const Vec3 at = shape == WallShape::plane ? x : x - t.distance * t.normal;
+    return velocity + surface_velocity + cross(angular_velocity, at - (point + axis_offset));
+  }
+  Vec3 surface_velocity_at(const Vec3& x) const { return surface_velocity_at(x, touch(x)); }
 
   Vec3 velocity_at(double t) const {
     for (const WallMotion& m : motion)

@@ -1,0 +1,119 @@
+// Cylinder walls (docs/scenario.md, [[walls]] shape = "cylinder"): the nearest point and the
+// normal inside and outside; a frictionless bead sliding inside a horizontal cylinder swings
+// as a pendulum of length R - r, with its period and without losing energy; a ball resting on
+// a horizontal bar presses into it as into a plane; a turning drum's surface moves at omega R
+// along its circle; the drum example gives the same bits on 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "scenario_run.hpp"
+#include "world_builder.hpp"
+
+namespace tsubu {
+namespace {
+
+Wall cylinder(double radius, bool inside) {
+  Wall w;
+  w.shape = WallShape::cylinder;
+  w.point = {0, 0, 0};
+  w.axis = {0, 1, 0};
+  w.radius = radius;
+  w.inside = inside;
+  return w;
+}
+
+TEST(CylinderWall, TouchGivesTheDistanceAlongTheRadiusAndTheNormalTowardsTheParticles) {
+  const Wall in = cylinder(0.1, true), out = cylinder(0.1, false);
+  const Vec3 x{0.03, 7.0, -0.04};  // 0.05 from the axis, whatever its place along it
+  const WallTouch a = in.touch(x), b = out.touch(x);
+  EXPECT_NEAR(a.distance, 0.05, 1e-15);
+  EXPECT_NEAR(a.normal.x, -0.6, 1e-15);
+  EXPECT_NEAR(a.normal.z, 0.8, 1e-15);
+  EXPECT_EQ(a.normal.y, 0);
+  EXPECT_NEAR(b.distance, -0.05, 1e-15);  // the far side of an outside cylinder: inside the bar
+  EXPECT_NEAR(b.normal.x, 0.6, 1e-15);
+  // A turning drum: its surface at the nearest point moves at omega R along the circle.
+  Wall drum = in;
+  drum.angular_velocity = {0, 2, 0};
+  const Vec3 v = drum.surface_velocity_at(x);
+  EXPECT_NEAR(norm(v), 2 * 0.1, 1e-15);
+  EXPECT_NEAR(dot(v, a.normal), 0, 1e-15);
+}
+
+// A bead of radius r released at rest 10 degrees up the inside of a horizontal cylinder of
+// radius R, frictionless and without damping, slides as a pendulum of length L = R - r (to
+// the overlap, 1e-5 of L): period 2 pi sqrt(L/g) (1 + theta0^2/16 + 11 theta0^4/3072), and
+// it swings back to its starting height.
+TEST(CylinderWall, AFrictionlessBeadInsideACylinderSwingsAsAPendulum) {
+  const double R = 0.1, r = 0.005, g = 9.81, theta0 = 10 * M_PI / 180, dt = 1e-5;
+  auto [world, model] = testing::make_world({"glass", 2500, 1e9, 0.3}, testing::spec_of("hertz_tsuji", "none", 1.0), dt,
+                                            {0, 0, -g});
+  world.walls.push_back(cylinder(R, true));
+  const double L = R - r;
+  world.particles.add(0, 0, 2 * r, 2500, {L * std::sin(theta0), 0, -L * std::cos(theta0)}, {});
+  Simulation sim(std::move(world), std::move(model), Integrator::velocity_verlet, {});
+  sim.start();
+  const double period = 2 * M_PI * std::sqrt(L / g) * (1 + theta0 * theta0 / 16 + 11 * std::pow(theta0, 4) / 3072);
+  std::vector<double> crossings;  // times x changes sign
+  double x_before = sim.world().particles.position[0].x, highest_after_one = 0;
+  while (sim.world().time < 1.25 * period) {
+    sim.step();
+    const double x = sim.world().particles.position[0].x, t = sim.world().time;
+    if ((x < 0) != (x_before < 0)) crossings.push_back(t - dt * x / (x - x_before));
+    if (t > 0.75 * period) highest_after_one = std::max(highest_after_one, x);
+    x_before = x;
+  }
+  ASSERT_GE(crossings.size(), 2u);
+  const double measured = 2 * (crossings[1] - crossings[0]);
+  std::printf("period %.7f s, pendulum %.7f s; amplitude after one swing %.7f of the first\n", measured, period,
+              highest_after_one / (L * std::sin(theta0)));
+  EXPECT_NEAR(measured / period, 1.0, 2e-5);  // the overlap shortens L by 1e-5
+  EXPECT_NEAR(highest_after_one / (L * std::sin(theta0)), 1.0, 1e-4);
+}
+
+// A ball at the top of a horizontal bar (a cylinder with the particles outside) settles at
+// the overlap it settles at on a horizontal plane through the bar's top: the same force
+// along the same normal.
+TEST(CylinderWall, ABallRestingOnABarPressesIntoItAsIntoAPlane) {
+  const double R = 0.02, r = 0.004, dt = 1e-6;
+  auto rest = [&](const Wall& wall) {
+    auto [world, model] = testing::make_world({"glass", 2500, 1e7, 0.3}, testing::spec_of("hertz_tsuji", "none", 0.3), dt,
+                                              {0, 0, -9.81});
+    world.walls.push_back(wall);
+    world.particles.add(0, 0, 2 * r, 2500, {0, 0, R + r}, {});
+    Simulation sim(std::move(world), std::move(model), Integrator::velocity_verlet, {});
+    sim.start();
+    sim.advance_to(100000);
+    return R + r - sim.world().particles.position[0].z;  // the overlap
+  };
+  Wall plane;
+  plane.point = {0, 0, R};
+  plane.normal = {0, 0, 1};
+  const double on_bar = rest(cylinder(R, false)), on_plane = rest(plane);
+  std::printf("overlap on the bar %.9g m, on the plane %.9g m\n", on_bar, on_plane);
+  EXPECT_GT(on_plane, 0);
+  EXPECT_NEAR(on_bar / on_plane, 1.0, 1e-9);
+}
+
+// The rotating drum of examples/drum/drum.toml, 0.05 s: 1 and 2 threads, the same bits.
+TEST(CylinderWall, TheDrumGivesTheSameBitsForOneAndTwoThreads) {
+  const std::string drum = std::string(TSUBU_SOURCE_DIR) + "/examples/drum/drum.toml";
+  auto run = [&](int threads) {
+    const Scenario sc = load_scenario(drum, {"simulation.duration=0.05", "search.sort_every=100"});
+    omp_set_num_threads(threads);
+    Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
+    sim.start();
+    sim.advance_to(std::llround(sc.duration / sc.dt));
+    omp_set_num_threads(1);
+    return std::move(sim.world());
+  };
+  const World one = run(1), two = run(2);
+  EXPECT_TRUE(testing::same_bits(one.particles.position, two.particles.position));
+  EXPECT_TRUE(testing::same_bits(one.particles.velocity, two.particles.velocity));
+  EXPECT_TRUE(testing::same_bits(one.particles.omega, two.particles.omega));
+}
+
+}  // namespace
+}  // namespace tsubu
