@@ -22,9 +22,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
+from tsubu.pictures import draw_grains, save_figure  # noqa: E402
 from tsubu.runs import read_run  # noqa: E402
 
 BLOCK_S = 0.25
@@ -73,12 +73,7 @@ def main():
     with open(os.path.join(args.out_dir, "run.json")) as f:
         summary = json.load(f)
     fig, (ax, ax_t) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw={"width_ratios": [1, 1.3]})
-    speed = np.linalg.norm(last["velocity"], axis=1)
-    circles = [Circle((x, z), 0.5 * d) for (x, _, z), d in zip(last.points, last["diameter"])]
-    collection = PatchCollection(circles, cmap="viridis")
-    collection.set_array(speed)
-    ax.add_collection(collection)
-    fig.colorbar(collection, ax=ax, label="speed (m/s)", shrink=0.8)
+    fig.colorbar(draw_grains(ax, last), ax=ax, label="speed (m/s)", shrink=0.8)
     angle, centre = surface_angle(last.points)
     reach = np.ptp(last.points[:, 0])
     direction = np.array([np.cos(np.radians(angle)), -np.sin(np.radians(angle))])
@@ -108,11 +103,7 @@ def main():
     ax_t.set_ylabel("dynamic angle of repose (°)")
     ax_t.legend(fontsize="small")
     ax_t.grid(alpha=0.3)
-    fig.suptitle("Rotating drum (examples/drum/drum.toml)")
-    fig.tight_layout()
-    png = args.png or os.path.join(args.out_dir, "drum.png")
-    fig.savefig(png, dpi=110)
-    print(f"wrote {png}")
+    save_figure(fig, args.png or os.path.join(args.out_dir, "drum.png"), "Rotating drum (examples/drum/drum.toml)")
 
 
 if __name__ == "__main__":

@@ -160,9 +160,21 @@ std::pair<double, double> box_extent(const Domain& domain, const Vec3& from, con
 }
 
 // A wall drawn as quadrilaterals over the box: a plane as one, the rectangle that covers
-// the box seen along its normal; a cylinder as kSides facets around its axis, over the box's
-// length along the axis. Appends their corners and each one's normal (towards the particles).
+// the box seen along its normal (with a hole: kSides around the hole, out beyond the box); a
+// cylinder as kSides facets around its axis, over the box's length along the axis. Appends their corners and each one's normal (towards the particles).
 void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, std::vector<Vec3>& normals) {
+  constexpr int kSides = 48;
+  if (w.shape == WallShape::plane && w.hole_radius > 0) {  // a ring from the hole's rim to beyond the box
+    const Vec3 u = perpendicular(w.normal), v = cross(w.normal, u);
+    const double reach = norm(domain.upper - domain.lower) + norm(w.point - 0.5 * (domain.lower + domain.upper));
+    for (int k = 0; k < kSides; ++k) {
+      const double a0 = 2 * M_PI * k / kSides, a1 = 2 * M_PI * (k + 1) / kSides;
+      const Vec3 e0 = std::cos(a0) * u + std::sin(a0) * v, e1 = std::cos(a1) * u + std::sin(a1) * v;
+      for (const Vec3& r : {w.hole_radius * e0, w.hole_radius * e1, reach * e1, reach * e0}) points.push_back(w.point + r);
+      normals.push_back(w.normal);
+    }
+    return;
+  }
   if (w.shape == WallShape::plane) {
     const Vec3 u = perpendicular(w.normal), v = cross(w.normal, u);
     const auto [u0, u1] = box_extent(domain, w.point, u);
@@ -171,7 +183,6 @@ void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, 
     normals.push_back(w.normal);
     return;
   }
-  constexpr int kSides = 48;
   const Vec3 u = perpendicular(w.axis), v = cross(w.axis, u);
   const auto [s0, s1] = box_extent(domain, w.point, w.axis);
   for (int k = 0; k < kSides; ++k) {

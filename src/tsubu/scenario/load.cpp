@@ -257,16 +257,23 @@ void read_surface_motion(Section& s, Wall& w) {
   w.axis_offset = s.vec3("center", w.point) - w.point;
 }
 
+// A wall that is not a whole plane (`what`, named by `key`), whose contact normal turns under
+// a grain: the fixed steps only (the block steps' rates would need the normal's rate), and
+// no hindered settling (the room it leaves a grain is measured for whole planes).
+void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, const std::string& what) {
+  if (sc.integrator == Integrator::block_hermite)
+    s.fail(key, what + " needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
+                       "\"symplectic_euler\"); block steps take whole planes only yet");
+  if (sc.fluid.hindered)
+    s.fail(key, "hindered settling measures the room a whole plane leaves a grain; " + what +
+                    " is not available with fluid.hindered_settling = true yet");
+}
+
 // A cylinder (shape = "cylinder"): its axis, radius and side; its surface may turn about
 // the axis. It does not move otherwise, and only the fixed steps take it.
 void read_cylinder(Section& s, const Scenario& sc, Wall& w) {
   w.shape = WallShape::cylinder;
-  if (sc.integrator == Integrator::block_hermite)
-    s.fail("shape", "a cylinder needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
-                    "\"symplectic_euler\"); block steps take planes only yet");
-  if (sc.fluid.hindered)
-    s.fail("shape", "hindered settling measures the room a plane leaves a grain; a cylinder is not available with "
-                    "fluid.hindered_settling = true yet");
+  refuse_with_curved_walls(s, sc, "shape", "a cylinder");
   for (const char* key : {"normal", "motion", "surface_velocity", "center"})
     if (s.has(key))
       s.fail(key, std::string("is not a cylinder's: a cylinder takes point (on its axis), axis, radius, side, material and "
@@ -303,6 +310,10 @@ void read_wall(Section s, Scenario& sc) {
   if (!std::isnormal(norm(n)))
     s.fail("normal", "must be a non-zero vector pointing towards the particles, with components of ordinary size such as [0, 0, 1]; its length is " + num(norm(n)));
   w.normal = n / norm(n);
+  if (s.has("hole_radius")) {  // an outlet about `point`
+    w.hole_radius = s.positive("hole_radius");
+    refuse_with_curved_walls(s, sc, "hole_radius", "a plane with a hole");
+  }
   double previous = 0;
   for (Section m : s.tables("motion")) {
     WallMotion stretch;

@@ -102,6 +102,10 @@ enum class WallShape { plane, cylinder };
 // velocity in the plane and a rotation about the normal. The velocity of the surface where a
 // particle touches it (surface_velocity_at) enters the relative velocity of the contact.
 //
+// A plane may have a circular hole about `point` (an outlet in a silo's floor, `hole_radius`
+// > 0): over the hole the nearest point of the plate is on the hole's rim, and a grain
+// touches the rim along the line from it to its centre.
+//
 // A cylinder: infinitely long, about the line through `point` along the unit vector `axis`,
 // of `radius`, with the particles inside it or outside. Its surface may turn about its axis
 // (a rotating drum: the rotation moves no geometry); it does not move otherwise.
@@ -118,12 +122,26 @@ struct Wall {
   Vec3 axis;           // cylinder
   double radius = 0;   // m, cylinder
   bool inside = true;  // cylinder: the particles are inside it
+  double hole_radius = 0;  // m, plane: a circular hole about `point` (0: none)
 
   // A plane's signed distance from x (positive on the particles' side).
   double distance(const Vec3& x) const { return dot(x - point, normal); }
 
   WallTouch touch(const Vec3& x) const {
-    if (shape == WallShape::plane) return {distance(x), normal};
+    if (shape == WallShape::plane) {
+      const double d = distance(x);
+      if (hole_radius > 0) {
+        const Vec3 along = (x - point) - d * normal;  // in the plane, from the hole's centre
+        const double rho = norm(along);
+        if (rho < hole_radius) {  // over the hole: the nearest point of the plate is on the rim
+          const Vec3 out = rho > 0 ? along / rho : perpendicular(normal);
+          const Vec3 from_rim = (x - point) - hole_radius * out;
+          const double dist = norm(from_rim);
+          return {dist, dist > 0 ? from_rim / dist : normal};
+        }
+      }
+      return {d, normal};
+    }
     const Vec3 rel = x - point;
     const Vec3 off = rel - dot(rel, axis) * axis;  // from the axis
     const double rho = norm(off);
@@ -133,10 +151,12 @@ struct Wall {
 
   bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
   // The velocity of the surface at the nearest point to x, where x touches it (t = touch(x)).
-  // A plane's rotation is about its normal: its part is the same at x itself, which is used.
+  // On a plane's face the rotation is about the normal, so its part is the same at x itself,
+  // which is used; on a hole's rim and on a cylinder the nearest point is.
   Vec3 surface_velocity_at(const Vec3& x, const WallTouch& t) const {
     if (!surface_moves()) return velocity;
-    const Vec3 at = shape == WallShape::plane ? x : x - t.distance * t.normal;
+    const bool face = shape == WallShape::plane && t.normal == normal;
+    const Vec3 at = face ? x : x - t.distance * t.normal;
     return velocity + surface_velocity + cross(angular_velocity, at - (point + axis_offset));
   }
   Vec3 surface_velocity_at(const Vec3& x) const { return surface_velocity_at(x, touch(x)); }
