@@ -2,7 +2,9 @@
 // normal inside and outside; a frictionless bead sliding inside a horizontal cylinder swings
 // as a pendulum of length R - r, with its period and without losing energy; a ball resting on
 // a horizontal bar presses into it as into a plane; a turning drum's surface moves at omega R
-// along its circle; the drum example gives the same bits on 1 and 2 threads.
+// along its circle; the drum example gives the same bits on 1 and 2 threads. A plane with a
+// hole (an outlet): the rim's distance and normal, and a frictionless ball sliding off the
+// rim where cos theta = 2/3.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -114,12 +116,6 @@ TEST(CylinderWall, TheDrumGivesTheSameBitsForOneAndTwoThreads) {
   EXPECT_TRUE(testing::same_bits(one.particles.velocity, two.particles.velocity));
   EXPECT_TRUE(testing::same_bits(one.particles.omega, two.particles.omega));
 }
-
-}  // namespace
-}  // namespace tsubu
-
-namespace tsubu {
-namespace {
 
 // A plate with a hole (a plane's hole_radius, an outlet): over the hole the nearest point is
 // on the rim, elsewhere the plane's; the two meet at the rim's edge.

@@ -116,7 +116,7 @@ void RunFiles::track_rows(const World& world) {
 void RunFiles::departure_rows(const std::vector<Departure>& departures) {
   for (const Departure& d : departures) {
     const Vec3 &x = d.position, &v = d.velocity;
-    outflow_ << d.time << ',' << d.id << ',' << open_face_name(d.face) << ',' << d.diameter << ',' << d.mass << ',' << x.x
+    outflow_ << d.time << ',' << d.id << ',' << kBoxFaces[static_cast<std::size_t>(d.face)] << ',' << d.diameter << ',' << d.mass << ',' << x.x
              << ',' << x.y << ',' << x.z << ',' << v.x << ',' << v.y << ',' << v.z << '\n';
   }
 }

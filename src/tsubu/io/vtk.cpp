@@ -161,15 +161,20 @@ std::pair<double, double> box_extent(const Domain& domain, const Vec3& from, con
 
 // A wall drawn as quadrilaterals over the box: a plane as one, the rectangle that covers
 // the box seen along its normal (with a hole: kSides around the hole, out beyond the box); a
-// cylinder as kSides facets around its axis, over the box's length along the axis. Appends their corners and each one's normal (towards the particles).
+// cylinder as kSides facets around its axis, over the box's length along the axis. Appends
+// their corners and each one's normal (towards the particles).
 void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, std::vector<Vec3>& normals) {
   constexpr int kSides = 48;
+  // The unit vector at the angle of step k around the circle spanned by u and v.
+  const auto around = [](const Vec3& u, const Vec3& v, double k) {
+    const double a = 2 * M_PI * k / kSides;
+    return std::cos(a) * u + std::sin(a) * v;
+  };
   if (w.shape == WallShape::plane && w.hole_radius > 0) {  // a ring from the hole's rim to beyond the box
     const Vec3 u = perpendicular(w.normal), v = cross(w.normal, u);
     const double reach = norm(domain.upper - domain.lower) + norm(w.point - 0.5 * (domain.lower + domain.upper));
     for (int k = 0; k < kSides; ++k) {
-      const double a0 = 2 * M_PI * k / kSides, a1 = 2 * M_PI * (k + 1) / kSides;
-      const Vec3 e0 = std::cos(a0) * u + std::sin(a0) * v, e1 = std::cos(a1) * u + std::sin(a1) * v;
+      const Vec3 e0 = around(u, v, k), e1 = around(u, v, k + 1);
       for (const Vec3& r : {w.hole_radius * e0, w.hole_radius * e1, reach * e1, reach * e0}) points.push_back(w.point + r);
       normals.push_back(w.normal);
     }
@@ -186,10 +191,9 @@ void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, 
   const Vec3 u = perpendicular(w.axis), v = cross(w.axis, u);
   const auto [s0, s1] = box_extent(domain, w.point, w.axis);
   for (int k = 0; k < kSides; ++k) {
-    const double a0 = 2 * M_PI * k / kSides, a1 = 2 * M_PI * (k + 1) / kSides, mid = 0.5 * (a0 + a1);
-    const Vec3 r0 = w.radius * (std::cos(a0) * u + std::sin(a0) * v), r1 = w.radius * (std::cos(a1) * u + std::sin(a1) * v);
+    const Vec3 r0 = w.radius * around(u, v, k), r1 = w.radius * around(u, v, k + 1);
     for (const auto& [r, s] : {std::pair{r0, s0}, {r1, s0}, {r1, s1}, {r0, s1}}) points.push_back(w.point + r + s * w.axis);
-    const Vec3 out = std::cos(mid) * u + std::sin(mid) * v;
+    const Vec3 out = around(u, v, k + 0.5);
     normals.push_back(w.inside ? -out : out);
   }
 }

@@ -185,13 +185,12 @@ void read_domain(Section s, Scenario& sc) {
       s.fail("periodic", "\"" + axis + "\" is not an axis; allowed: \"x\", \"y\", \"z\"");
     sc.domain.periodic[static_cast<std::size_t>(axis[0] - 'x')] = true;
   }
-  static const std::array<std::string, 6> faces = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
   for (const std::string& face : s.texts("open", {})) {
-    const auto at = std::find(faces.begin(), faces.end(), face);
-    if (at == faces.end())
+    const auto at = std::find(kBoxFaces.begin(), kBoxFaces.end(), face);
+    if (at == kBoxFaces.end())
       s.fail("open", "\"" + face + "\" is not a face of the box; allowed: \"x_min\", \"x_max\", \"y_min\", \"y_max\", "
                      "\"z_min\", \"z_max\"");
-    const auto f = static_cast<std::size_t>(at - faces.begin());
+    const auto f = static_cast<std::size_t>(at - kBoxFaces.begin());
     if (sc.domain.periodic[f / 2])
       s.fail("open", "\"" + face + "\": the " + std::string(1, static_cast<char>('x' + f / 2)) +
                          " axis is periodic; a face is either open or periodic");

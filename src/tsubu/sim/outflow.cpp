@@ -7,11 +7,6 @@
 
 namespace tsubu {
 
-const char* open_face_name(int face) {
-  static const char* const names[] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
-  return face >= 0 && face < 6 ? names[face] : "none";
-}
-
 bool Outflow::remove_departed(World& w) {
   Particles& p = w.particles;
   const std::size_t n = p.size();

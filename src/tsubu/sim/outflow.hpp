@@ -23,9 +23,6 @@ struct Departure {
   int face = 0;                   // Domain::departed's number
 };
 
-// The scenario's name of an open face from Domain::departed's number: "x_min" ... "z_max".
-const char* open_face_name(int face);
-
 class Outflow {
  public:
   struct Totals {

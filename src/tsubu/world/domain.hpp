@@ -5,11 +5,16 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tsubu/core/vec3.hpp"
 
 namespace tsubu {
+
+// The names of the box's faces, numbered 2 axis + side (0 lower, 1 upper) as
+// Domain::departed numbers them: the scenario's domain.open and outflow.csv's `face`.
+inline constexpr std::array<std::string_view, 6> kBoxFaces = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 struct Domain {
   Vec3 lower, upper;                 // m
