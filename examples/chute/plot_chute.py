@@ -7,30 +7,18 @@ their speed) and the beads that left through the open end over time.
 --frame picks the frame drawn (default: the middle one, the flow under way). Writes
 OUT_DIR/chute.png (default) and prints the beads gone and the peak discharge rate.
 """
-import argparse
 import os
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from tsubu.pictures import draw_grains, save_figure  # noqa: E402
-from tsubu.runs import read_run  # noqa: E402
+from tsubu.pictures import discharge_run, draw_grains, save_figure  # noqa: E402
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out_dir")
-    parser.add_argument("--png")
-    parser.add_argument("--frame", type=int)
-    args = parser.parse_args()
-    run = read_run(args.out_dir)
-    if run.frames is None or run.outflow is None:
-        sys.exit(f"{args.out_dir}: needs frames (output.vtk_interval) and an open face (domain.open)")
-    index = len(run.frames.times) // 2 if args.frame is None else args.frame
-    frame = run.frame(index)
+    args, run, frame = discharge_run(__doc__.splitlines()[0])
     gone_t, gone_m = np.asarray(run.outflow["time"], float), np.asarray(run.outflow["mass"], float)
     print(f"{len(gone_t)} beads left through the open end by t = {run.series['time'][-1]:.2f} s "
           f"({gone_m.sum() * 1e3:.2f} g)")

@@ -15,7 +15,6 @@ import argparse
 import json
 import os
 import sys
-import tomllib
 
 import matplotlib
 
@@ -24,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-from tsubu.pictures import draw_grains, save_figure  # noqa: E402
+from tsubu.pictures import draw_grains, save_figure, scenario_walls  # noqa: E402
 from tsubu.runs import read_run  # noqa: E402
 
 BLOCK_S = 0.25
@@ -79,15 +78,9 @@ def main():
     direction = np.array([np.cos(np.radians(angle)), -np.sin(np.radians(angle))])
     line = np.array([centre - 0.6 * reach * direction, centre + 0.6 * reach * direction])
     ax.plot(line[:, 0], line[:, 1], "r-", lw=1.5, label=f"principal axis, {angle:.1f}°")
-    # The drum's wall, drawn from the scenario (where the run was started from, or its copy
-    # beside the checkpoints).
-    for scenario in (summary["scenario"], os.path.join(args.out_dir, "checkpoint", "scenario.toml")):
-        if os.path.isfile(scenario):
-            with open(scenario, "rb") as f:
-                for wall in tomllib.load(f).get("walls", []):
-                    if wall.get("shape") == "cylinder":
-                        ax.add_patch(Circle((wall["point"][0], wall["point"][2]), wall["radius"], fill=False, color="0.4"))
-            break
+    for wall in scenario_walls(run):  # the drum
+        if wall.get("shape") == "cylinder":
+            ax.add_patch(Circle((wall["point"][0], wall["point"][2]), wall["radius"], fill=False, color="0.4"))
     lo, hi = summary["domain"]["lower"], summary["domain"]["upper"]
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[2], hi[2])

@@ -20,8 +20,8 @@ inline Scenario test_scenario(const std::string& name, const std::vector<std::st
   return load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
 }
 
-inline World run_test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}, int threads = 1) {
-  const Scenario sc = test_scenario(name, overrides);
+// The scenario's whole run on `threads` threads: its final world.
+inline World run_scenario(const Scenario& sc, int threads = 1) {
   omp_set_num_threads(threads);
   Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // any integrator
   sim.start();
@@ -30,8 +30,23 @@ inline World run_test_scenario(const std::string& name, const std::vector<std::s
   return std::move(sim.world());
 }
 
+inline World run_test_scenario(const std::string& name, const std::vector<std::string>& overrides = {}, int threads = 1) {
+  return run_scenario(test_scenario(name, overrides), threads);
+}
+
+// A scenario of examples/ (`name` is its path there, e.g. "drum/drum.toml").
+inline Scenario example_scenario(const std::string& name, const std::vector<std::string>& overrides = {}) {
+  return load_scenario(std::string(TSUBU_SOURCE_DIR) + "/examples/" + name, overrides);
+}
+
 inline bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+// The particles' positions, velocities and spins are the same bits in both worlds.
+inline bool same_particle_bits(const World& a, const World& b) {
+  return same_bits(a.particles.position, b.particles.position) && same_bits(a.particles.velocity, b.particles.velocity) &&
+         same_bits(a.particles.omega, b.particles.omega);
 }
 
 }  // namespace tsubu::testing

@@ -101,20 +101,8 @@ TEST(CylinderWall, ABallRestingOnABarPressesIntoItAsIntoAPlane) {
 
 // The rotating drum of examples/drum/drum.toml, 0.05 s: 1 and 2 threads, the same bits.
 TEST(CylinderWall, TheDrumGivesTheSameBitsForOneAndTwoThreads) {
-  const std::string drum = std::string(TSUBU_SOURCE_DIR) + "/examples/drum/drum.toml";
-  auto run = [&](int threads) {
-    const Scenario sc = load_scenario(drum, {"simulation.duration=0.05", "search.sort_every=100"});
-    omp_set_num_threads(threads);
-    Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);
-    sim.start();
-    sim.advance_to(std::llround(sc.duration / sc.dt));
-    omp_set_num_threads(1);
-    return std::move(sim.world());
-  };
-  const World one = run(1), two = run(2);
-  EXPECT_TRUE(testing::same_bits(one.particles.position, two.particles.position));
-  EXPECT_TRUE(testing::same_bits(one.particles.velocity, two.particles.velocity));
-  EXPECT_TRUE(testing::same_bits(one.particles.omega, two.particles.omega));
+  const Scenario sc = testing::example_scenario("drum/drum.toml", {"simulation.duration=0.05", "search.sort_every=100"});
+  EXPECT_TRUE(testing::same_particle_bits(testing::run_scenario(sc, 1), testing::run_scenario(sc, 2)));
 }
 
 // A plate with a hole (a plane's hole_radius, an outlet): over the hole the nearest point is

@@ -161,7 +161,8 @@ std::pair<double, double> box_extent(const Domain& domain, const Vec3& from, con
 
 // A wall drawn as quadrilaterals over the box: a plane as one, the rectangle that covers
 // the box seen along its normal (with a hole: kSides around the hole, out beyond the box); a
-// cylinder as kSides facets around its axis, over the box's length along the axis. Appends
+// cylinder as kSides facets around its axis, over the box's length along the axis; a cone as
+// kSides facets from one rim to the other. Appends
 // their corners and each one's normal (towards the particles).
 void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, std::vector<Vec3>& normals) {
   constexpr int kSides = 48;
@@ -189,12 +190,15 @@ void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, 
     return;
   }
   const Vec3 u = perpendicular(w.axis), v = cross(w.axis, u);
-  const auto [s0, s1] = box_extent(domain, w.point, w.axis);
+  const bool cone = w.shape == WallShape::cone;
+  const auto [s0, s1] = cone ? std::pair{0.0, w.length} : box_extent(domain, w.point, w.axis);
+  const double radius1 = cone ? w.end_radius : w.radius;
   for (int k = 0; k < kSides; ++k) {
-    const Vec3 r0 = w.radius * around(u, v, k), r1 = w.radius * around(u, v, k + 1);
-    for (const auto& [r, s] : {std::pair{r0, s0}, {r1, s0}, {r1, s1}, {r0, s1}}) points.push_back(w.point + r + s * w.axis);
+    const Vec3 e0 = around(u, v, k), e1 = around(u, v, k + 1);
+    for (const auto& [r, s] : {std::pair{w.radius * e0, s0}, {w.radius * e1, s0}, {radius1 * e1, s1}, {radius1 * e0, s1}})
+      points.push_back(w.point + r + s * w.axis);
     const Vec3 out = around(u, v, k + 0.5);
-    normals.push_back(w.inside ? -out : out);
+    normals.push_back(cone ? w.cone_normal(out) : w.inside ? -out : out);
   }
 }
 

@@ -268,27 +268,38 @@ void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, c
                     " is not available with fluid.hindered_settling = true yet");
 }
 
-// A cylinder (shape = "cylinder"): its axis, radius and side; its surface may turn about
-// the axis. It does not move otherwise, and only the fixed steps take it.
-void read_cylinder(Section& s, const Scenario& sc, Wall& w) {
-  w.shape = WallShape::cylinder;
-  refuse_with_curved_walls(s, sc, "shape", "a cylinder");
+// A cylinder (shape = "cylinder") or a cone (shape = "cone"): its axis, size and side; its
+// surface may turn about the axis. It does not move otherwise, and only the fixed steps take it.
+void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string& shape) {
+  w.shape = shape == "cone" ? WallShape::cone : WallShape::cylinder;
+  refuse_with_curved_walls(s, sc, "shape", "a " + shape);
+  const std::string keys = w.shape == WallShape::cone ? "point (the centre of its first rim), axis, length, radius, end_radius"
+                                                      : "point (on its axis), axis, radius";
   for (const char* key : {"normal", "motion", "surface_velocity", "center"})
     if (s.has(key))
-      s.fail(key, std::string("is not a cylinder's: a cylinder takes point (on its axis), axis, radius, side, material and "
-                              "angular_velocity (about its axis); it does not move otherwise"));
+      s.fail(key, "is not a " + shape + "'s: a " + shape + " takes " + keys +
+                      ", side, material and angular_velocity (about its axis); it does not move otherwise");
   w.point = s.vec3("point");
   const Vec3 a = s.vec3("axis");
   if (!std::isnormal(norm(a)))
-    s.fail("axis", "must be a non-zero vector along the cylinder, with components of ordinary size such as [0, 1, 0]; its "
+    s.fail("axis", "must be a non-zero vector along the " + shape + ", with components of ordinary size such as [0, 1, 0]; its "
                    "length is " + num(norm(a)));
   w.axis = a / norm(a);
-  w.radius = s.positive("radius");
+  if (w.shape == WallShape::cone) {
+    w.length = s.positive("length");
+    w.radius = s.real("radius");
+    w.end_radius = s.real("end_radius");
+    for (const auto& [key, r] : {std::pair{"radius", w.radius}, {"end_radius", w.end_radius}})
+      if (!(r >= 0)) s.fail(key, "must be at least 0 m (0: the cone's apex)" + got(r));
+    if (!(w.radius > 0 || w.end_radius > 0)) s.fail("end_radius", "and radius are both 0: a cone needs one rim wider than a point");
+  } else {
+    w.radius = s.positive("radius");
+  }
   w.inside = s.choice("side", {"inside", "outside"}, std::string("inside")) == "inside";
   constexpr double kRounding = 1e-9;  // of the vector's length
   const Vec3 omega = s.vec3("angular_velocity", {});
   if (const double off = norm(cross(omega, w.axis)); off > kRounding * norm(omega))
-    s.fail("angular_velocity", "must be along the cylinder's axis (a drum turning: the rotation moves no geometry); its "
+    s.fail("angular_velocity", "must be along the " + shape + "'s axis (turning about it: the rotation moves no geometry); its "
                                "component across the axis is " + num(off) + " rad/s");
   w.angular_velocity = dot(omega, w.axis) * w.axis;
 }
@@ -296,8 +307,8 @@ void read_cylinder(Section& s, const Scenario& sc, Wall& w) {
 void read_wall(Section s, Scenario& sc) {
   Wall w;
   w.material = material_index(sc, s, "material");
-  if (s.choice("shape", {"plane", "cylinder"}, std::string("plane")) == "cylinder") {
-    read_cylinder(s, sc, w);
+  if (const std::string shape = s.choice("shape", {"plane", "cylinder", "cone"}, std::string("plane")); shape != "plane") {
+    read_round_wall(s, sc, w, shape);
     s.finish();
     sc.walls.push_back(w);
     return;

@@ -66,18 +66,19 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 
 // A particle that starts deeper in a wall than simulation.overlap_limit would stop the run
 // at its first force evaluation; `check` reports it here, as the run sees it (a wall pushes
-// only centres in front of its surface). So is one on the far side of a cylinder, which
-// would never feel it (a plane may leave particles behind it: another part of the box).
+// only centres in front of its surface). So is one on the far side of a cylinder or of a
+// cone's face, which would never feel it (a plane may leave particles behind it: another part
+// of the box; so may a cone beyond its rims).
 void check_walls(const World& w, double overlap_limit, const std::vector<Grain>& grains) {
   const Particles& p = w.particles;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t k = 0; k < w.walls.size(); ++k) {
       const double dist = w.walls[k].touch(p.position[i]).distance;
-      if (w.walls[k].shape == WallShape::cylinder && !(dist > 0))
+      if (const WallShape shape = w.walls[k].shape; shape != WallShape::plane && !(dist > 0))
         throw InputError(grains[i].where, "particle centre " + format_vec(p.position[i]) + " starts " +
                                               (w.walls[k].inside ? "outside" : "inside") + " wall " + std::to_string(k) +
-                                              ", a cylinder with the particles " + (w.walls[k].inside ? "inside" : "outside") +
-                                              " it: place the particles on its side");
+                                              (shape == WallShape::cone ? ", a cone" : ", a cylinder") + " with the particles " +
+                                              (w.walls[k].inside ? "inside" : "outside") + " it: place the particles on its side");
       const double ratio = (p.radius[i] - dist) / (2 * p.radius[i]);
       if (dist > 0 && !(ratio <= overlap_limit)) {
         std::ostringstream s;

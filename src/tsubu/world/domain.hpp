@@ -98,7 +98,7 @@ struct WallTouch {
   Vec3 normal;
 };
 
-enum class WallShape { plane, cylinder };
+enum class WallShape { plane, cylinder, cone };
 
 // A plane: infinite; `normal` is a unit vector pointing into the particles' side. A wall with
 // a `motion` moves as a rigid plane: in each step with the velocity of the stretch that holds
@@ -114,6 +114,12 @@ enum class WallShape { plane, cylinder };
 // A cylinder: infinitely long, about the line through `point` along the unit vector `axis`,
 // of `radius`, with the particles inside it or outside. Its surface may turn about its axis
 // (a rotating drum: the rotation moves no geometry); it does not move otherwise.
+//
+// A cone: the surface of a truncated cone (a hopper, a funnel, a pipe of finite length) about
+// the same kind of axis, from the circle of `radius` about `point` to the circle of
+// `end_radius` about point + length axis; its ends are open. A grain touches the face, on the
+// particles' side (`inside`: the side of the axis), or either rim from any side (as a
+// plane's hole rim). Its surface may turn about its axis.
 struct Wall {
   Vec3 point;
   Vec3 normal;  // plane
@@ -124,9 +130,11 @@ struct Wall {
   Vec3 angular_velocity;           // rad/s, along the normal
   Vec3 axis_offset;                // m, a point of the rotation's axis, from `point` (it moves with the wall)
   WallShape shape = WallShape::plane;
-  Vec3 axis;           // cylinder
-  double radius = 0;   // m, cylinder
-  bool inside = true;  // cylinder: the particles are inside it
+  Vec3 axis;           // cylinder, cone
+  double radius = 0;   // m, cylinder; cone: at `point`
+  bool inside = true;  // cylinder, cone: the particles are inside it
+  double end_radius = 0;  // m, cone: at point + length axis
+  double length = 0;      // m, cone: along the axis
   double hole_radius = 0;  // m, plane: a circular hole about `point` (0: none)
 
   // A plane's signed distance from x (positive on the particles' side).
@@ -148,16 +156,39 @@ struct Wall {
       return {d, normal};
     }
     const Vec3 rel = x - point;
-    const Vec3 off = rel - dot(rel, axis) * axis;  // from the axis
+    const double s = dot(rel, axis);  // along the axis
+    const Vec3 off = rel - s * axis;  // from the axis
     const double rho = norm(off);
     const Vec3 out = rho > 0 ? off / rho : perpendicular(axis);  // on the axis itself: any direction
-    return inside ? WallTouch{radius - rho, -out} : WallTouch{rho - radius, out};
+    if (shape == WallShape::cylinder) return inside ? WallTouch{radius - rho, -out} : WallTouch{rho - radius, out};
+    return cone_touch(rel, s, rho, out);
+  }
+  // The cone's nearest point in the half-plane (s, rho) through the axis and x, where the
+  // surface is the segment from (0, radius) to (length, end_radius): on the face, the signed
+  // distance along the face's normal; beyond either end, the distance from that end's rim.
+  WallTouch cone_touch(const Vec3& rel, double s, double rho, const Vec3& out) const {
+    const double rise = end_radius - radius, slant = std::hypot(length, rise);
+    const double t = (s * length + (rho - radius) * rise) / (slant * slant);  // along the segment, 0 to 1
+    if (t > 0 && t < 1) {
+      const double across = rise / slant, towards_axis = -length / slant;  // the face's normal towards the axis
+      return {(inside ? 1 : -1) * (s * across + (rho - radius) * towards_axis), cone_normal(out)};
+    }
+    const Vec3 from_rim = t <= 0 ? rel - radius * out : rel - length * axis - end_radius * out;
+    const double dist = norm(from_rim);
+    return {dist, dist > 0 ? from_rim / dist : (inside ? -out : out)};
+  }
+
+  // The normal of a cone's face, towards the particles, where `out` points from the axis.
+  Vec3 cone_normal(const Vec3& out) const {
+    const double rise = end_radius - radius, slant = std::hypot(length, rise);
+    const Vec3 towards_axis = (rise / slant) * axis - (length / slant) * out;
+    return inside ? towards_axis : -towards_axis;
   }
 
   bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
   // The velocity of the surface at the nearest point to x, where x touches it (t = touch(x)).
   // On a plane's face the rotation is about the normal, so its part is the same at x itself,
-  // which is used; on a hole's rim and on a cylinder the nearest point is.
+  // which is used; on a hole's rim, a cylinder and a cone the nearest point is.
   Vec3 surface_velocity_at(const Vec3& x, const WallTouch& t) const {
     if (!surface_moves()) return velocity;
     const bool face = shape == WallShape::plane && t.normal == normal;
