@@ -5,8 +5,9 @@ number of 3 mm glass beads poured in at random, the same contact law as far as L
 (Hertz with Tsuji's dashpot, a Mindlin tangential spring with Coulomb's bound, no rolling
 resistance; LAMMPS' input is validation/drum.in, the mapping of each term is in
 docs/validation/drum.md), for several seeds in each code. Three sets of runs: tsubu on the
-example as it is; tsubu with the Coulomb bound on the whole tangential force
-(`friction_bound = "total"`), as LAMMPS bounds it; and LAMMPS. All are measured with the
+example as it is, with Coulomb's bound on the whole tangential force (`friction_bound =
+"total"`), as LAMMPS bounds it; tsubu with the bound on the spring alone and the dashpot on
+top (`friction_bound = "spring"`); and LAMMPS. All are measured with the
 same estimator, the functions of examples/drum/plot_drum.py: the angle of a frame is the
 inclination of the principal axis of the grains' centres across the drum (x, z); a run's
 angle is the mean over its frames from 1 s on, with the standard error over blocks of
@@ -51,15 +52,17 @@ DIAMETER = 0.003
 DENSITY = 2500.0
 DRUM_RADIUS = 0.04
 BOX = ((-0.042, 0.042), (0.0, 0.012), (-0.042, 0.042))
-# What is run: tsubu on the example as it is; tsubu with the Coulomb bound on the whole
-# tangential force (spring and dashpot), as LAMMPS bounds it; LAMMPS (validation/drum.in).
-# Each is (the runs' folder name, tsubu's --set overrides or None for LAMMPS).
+# What is run: tsubu on the example as it is, whose Coulomb bound holds the whole tangential
+# force (spring and dashpot), as LAMMPS bounds it; tsubu with the bound on the spring alone
+# (friction_bound = "spring", the dashpot on top: the sedimentation paper's law as printed);
+# LAMMPS (validation/drum.in). Each is (the runs' folder name, tsubu's --set overrides or None
+# for LAMMPS).
 CODES = {
-    "tsubu": ("tsubu", []),
-    'tsubu, friction_bound = "total"': ("tsubu-total", ['contact.default.friction_bound="total"']),
+    'tsubu (the example, friction_bound = "total")': ("tsubu-total", []),
+    'tsubu, friction_bound = "spring"': ("tsubu-spring", ['contact.default.friction_bound="spring"']),
     "LAMMPS": ("lammps", None),
 }
-COLOURS = dict(zip(CODES, ("tab:blue", "tab:green", "tab:orange")))
+COLOURS = dict(zip(CODES, ("tab:green", "tab:blue", "tab:orange")))
 
 
 def load_plot_drum():
