@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tsubu/app/simulation_state.hpp"
 #include "tsubu/forces/force_field.hpp"
 #include "tsubu/integrate/integrators.hpp"
 #include "tsubu/scenario/scenario.hpp"
@@ -20,10 +21,10 @@ inline Scenario test_scenario(const std::string& name, const std::vector<std::st
   return load_scenario(std::string(TSUBU_SOURCE_DIR) + "/tests/scenarios/" + name, overrides);
 }
 
-// The scenario's whole run on `threads` threads: its final world.
+// The scenario's whole run on `threads` threads, its inflow or insertion fed: its final world.
 inline World run_scenario(const Scenario& sc, int threads = 1) {
   omp_set_num_threads(threads);
-  Simulation sim(build_world(sc), build_model(sc), sc.integrator, sc.block_steps);  // any integrator
+  Simulation sim = new_simulation(sc);  // any integrator
   sim.start();
   sim.advance_to(std::llround(sc.duration / sc.dt));
   omp_set_num_threads(1);

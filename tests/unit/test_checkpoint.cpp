@@ -474,6 +474,41 @@ TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
   EXPECT_EQ(results(ref), results(cut));
 }
 
+// An insertion region (tests/scenarios/insertion_bin.toml, a bin filled from above): a run
+// ended at t = 0.15 s while grains are still inserted, its newest checkpoint lost, resumes
+// from t = 0.1 s to 0.3 s: the insertion's stream (its next grain, its waiting grains, its
+// counts) goes on from the checkpoint's, and every output ends as the uninterrupted run's.
+TEST(Resume, DuringAnInsertionFromAnEarlierCheckpointTheRunEndsBitIdentical) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  auto args = [&](const fs::path& out, const char* duration) {
+    return std::vector<std::string>{"run", (kScenarios / "insertion_bin.toml").string(), "--out", out.string(), "--set",
+                                    "output.checkpoint_every_steps=5000", "--set", "output.vtk_interval=0.05", "--set",
+                                    std::string("simulation.duration=") + duration};
+  };
+  ASSERT_EQ(run(args(ref, "0.3"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  ASSERT_EQ(run(args(cut, "0.15"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
+  auto checkpoints = list_checkpoints(cut / "checkpoint");
+  ASSERT_GE(checkpoints.size(), 2u);
+  while (checkpoints.size() > 1 && read_checkpoint(checkpoints.back()).time > 0.1 + 1e-9) {
+    fs::remove(checkpoints.back());
+    checkpoints.pop_back();
+  }
+  const Checkpoint c = read_checkpoint(checkpoints.back());
+  ASSERT_TRUE(c.inflow.present);
+  std::printf("checkpoint at t = %g s: %zu grains in the bin\n", c.time, c.particles.size());
+  EXPECT_GT(c.particles.size(), 50u);
+  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=0.3"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut, true);  // the state's record of the --set values differs
+  const auto results = [](const fs::path& out) {
+    const std::string json = slurp(out / "run.json");
+    return json.substr(json.find("\"results\""));
+  };
+  EXPECT_NE(results(ref).find("\"inflow_released\""), std::string::npos) << results(ref);
+  EXPECT_EQ(results(ref), results(cut));
+}
+
 TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_VelocityVerlet) {
   // A smaller step than the scenario's: the run lasts a few seconds, long enough to be killed.
   expect_inflow_resume_bit_identical({"simulation.dt=5e-6", "output.checkpoint_every_steps=4000"});

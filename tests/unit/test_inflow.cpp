@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "tsubu/source/admission.hpp"
 #include "tsubu/source/inflow.hpp"
 #include "tsubu/source/size_moments.hpp"
 

@@ -14,6 +14,7 @@
 #include "tsubu/app/runner.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/ranks/communicator.hpp"
+#include "tsubu/sim/inflow_feed.hpp"
 #include "tsubu/sim/time_scales.hpp"
 #include "tsubu/source/build_world.hpp"
 #include "tsubu/version.hpp"
@@ -231,7 +232,7 @@ int main(int argc, char** argv) {
                   w.walls.size(), sc.materials.size());
       print_sources(tsubu::source_sizes(w));
       if (const tsubu::ParticleSource* src = tsubu::inflow_source(sc))
-        for (const auto& [k, v] : tsubu::inflow_rates(tsubu::inflow_column(sc, *src))) std::printf("  %s = %.6g\n", k.c_str(), v);
+        for (const auto& [k, v] : tsubu::InflowFeed(sc, *src, 0).rates()) std::printf("  %s = %.6g\n", k.c_str(), v);
       print_time_scales(sc, std::move(w), threads);
       return 0;
     }

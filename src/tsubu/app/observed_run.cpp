@@ -26,6 +26,8 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
   }
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (sc.domain.any_open()) refuse("domain.open");
+  if (const ParticleSource* src = inflow_source(sc); src && src->kind == ParticleSource::Kind::insertion)
+    refuse(src->where.key + ".source = \"insertion\"");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
                      std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "

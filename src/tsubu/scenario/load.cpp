@@ -422,12 +422,76 @@ SizeDistribution required_distribution(Section& s, const std::string& kind, cons
   return read_distribution(*dist, box);
 }
 
+// A scenario has at most one source whose grains arrive during the run.
+void refuse_second_arrival(Section& s, const Scenario& sc) {
+  if (const ParticleSource* other = inflow_source(sc))
+    s.fail("source", "a scenario has at most one inflow or insertion source (another one is at line " +
+                         std::to_string(other->where.line) + ")");
+}
+
+// The mass an inflow or insertion releases at most (kg, 0: no limit).
+void read_mass_limit(Section& s, ParticleSource& src) {
+  src.mass_limit = s.real("mass_limit", 0.0);
+  if (!(src.mass_limit >= 0) || !std::isfinite(src.mass_limit))
+    s.fail("mass_limit", "allowed 0 (no limit) or a mass > 0 (kg)" + got(src.mass_limit));
+}
+
+// Grains placed at random in a region during the run (docs/scenario.md, source =
+// "insertion"): the region, inside the domain and wide enough for the largest grain on every
+// side; a mass rate, a total, or both.
+void read_insertion(Section& s, ParticleSource& src, const Scenario& sc) {
+  src.kind = ParticleSource::Kind::insertion;
+  refuse_second_arrival(s, sc);
+  src.sizes = required_distribution(s, "insertion", sc.domain);
+  const double d_max = src.sizes.largest();
+  InsertionRegion& r = src.region;
+  if (s.choice("region", {"box", "cylinder"}, std::string("box")) == "box") {
+    r.shape = InsertionRegion::Shape::box;
+    r.lower = s.vec3("lower");
+    r.upper = s.vec3("upper");
+    for (int k = 0; k < 3; ++k) {
+      if (!(r.upper[k] - r.lower[k] > d_max))
+        s.fail("upper", "the region must be wider than the largest grain (" + num(d_max) + " m) along " + "xyz"[k] +
+                            ": upper - lower is " + num(r.upper[k] - r.lower[k]) + " m");
+      if (r.lower[k] < sc.domain.lower[k]) s.fail("lower", "the region must lie inside the domain (below domain.lower)");
+      if (r.upper[k] > sc.domain.upper[k]) s.fail("upper", "the region must lie inside the domain (above domain.upper)");
+    }
+  } else {
+    r.shape = InsertionRegion::Shape::cylinder;
+    r.point = s.vec3("point");
+    const Vec3 a = s.vec3("axis");
+    if (!std::isnormal(norm(a)))
+      s.fail("axis", "must be a non-zero vector along the region's axis, with components of ordinary size such as [0, 0, 1]; its "
+                     "length is " + num(norm(a)));
+    r.axis = a / norm(a);
+    r.radius = s.positive("radius");
+    r.length = s.positive("length");
+    if (!(r.radius > 0.5 * d_max)) s.fail("radius", "must exceed the largest grain's radius (" + num(0.5 * d_max) + " m)" + got(r.radius));
+    if (!(r.length > d_max)) s.fail("length", "must exceed the largest grain's diameter (" + num(d_max) + " m)" + got(r.length));
+    const Vec3 u = perpendicular(r.axis), v = cross(r.axis, u);
+    for (const double end : {0.0, r.length})  // its rims' extreme points along x, y, z lie inside the domain
+      for (int k = 0; k < 3; ++k) {
+        const double reach = r.radius * std::hypot(u[k], v[k]), centre = r.point[k] + end * r.axis[k];
+        if (!sc.domain.periodic[k] && (centre - reach < sc.domain.lower[k] || centre + reach > sc.domain.upper[k]))
+          s.fail("radius", std::string("the region must lie inside the domain: its rim reaches ") + "xyz"[k] + " = " +
+                               num(centre - reach < sc.domain.lower[k] ? centre - reach : centre + reach) + " m");
+      }
+  }
+  src.velocity = s.vec3("velocity", {});
+  src.mass_rate = s.real("mass_rate", 0.0);
+  if (!(src.mass_rate >= 0) || !std::isfinite(src.mass_rate))
+    s.fail("mass_rate", "allowed a mass per time > 0 (kg/s), or 0 for the whole mass_limit at once" + got(src.mass_rate));
+  read_mass_limit(s, src);
+  if (src.mass_rate == 0 && src.mass_limit == 0)
+    s.fail("mass_rate", "an insertion needs a mass_rate (kg/s), a mass_limit (kg, inserted at once) or both");
+  src.start = s.real("start", 0.0);
+  if (!(src.start >= 0) || !std::isfinite(src.start)) s.fail("start", "allowed a time >= 0 (s)" + got(src.start));
+}
+
 // The virtual column of the sedimentation experiment (docs/sedimentation.md).
 void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
   src.kind = ParticleSource::Kind::inflow;
-  for (const ParticleSource& other : sc.sources)
-    if (other.kind == ParticleSource::Kind::inflow)
-      s.fail("source", "a scenario has at most one inflow source (another one is at line " + std::to_string(other.where.line) + ")");
+  refuse_second_arrival(s, sc);
   const Domain& box = sc.domain;
   if (!box.periodic[0] || !box.periodic[1])
     s.fail("source", "\"inflow\" needs a domain periodic in x and y (the column's sides wrap): domain.periodic = [\"x\", \"y\"]");
@@ -472,9 +536,7 @@ void read_inflow(Section& s, ParticleSource& src, const Scenario& sc) {
                              "carries the column " + num(src.fall_speed * sc.dt) +
                              " m in one step (fall_speed * simulation.dt), past the domain's floor: allowed (0, " +
                              num(speed_limit) + ") m/s, (entry_height - d_max/2 - domain.lower.z) / dt" + got(src.fall_speed));
-  src.mass_limit = s.real("mass_limit", 0.0);
-  if (!(src.mass_limit >= 0) || !std::isfinite(src.mass_limit))
-    s.fail("mass_limit", "allowed 0 (no limit) or a mass > 0 (kg)" + got(src.mass_limit));
+  read_mass_limit(s, src);
   src.omega_star_rms = s.real("omega_star_rms", 0.0);
   if (!(src.omega_star_rms >= 0)) s.fail("omega_star_rms", "must be >= 0 (0: no initial spin)" + got(src.omega_star_rms));
   // Each spin component is normal with sd 2 u_r Omega*_rms / d (source/inflow.cpp), within 9
@@ -490,7 +552,7 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
   ParticleSource src;
   src.where = s.where();
   src.key_where = s.key_locations();
-  const std::string kind = s.choice("source", {"csv", "file", "lattice", "random", "inflow"}, std::nullopt);
+  const std::string kind = s.choice("source", {"csv", "file", "lattice", "random", "inflow", "insertion"}, std::nullopt);
   // A file source's rows name their own materials.
   if (kind != "file") src.material = material_index(sc, s, "material");
   if (kind == "csv" || kind == "file") {
@@ -516,6 +578,8 @@ void read_particles(Section s, Scenario& sc, const std::filesystem::path& folder
     if (src.solid_fraction > 0.4)
       s.fail("solid_fraction", "random sequential placement jams near 0.38 for one size: allowed (0, 0.4]" + got(src.solid_fraction));
     src.sizes = required_distribution(s, kind, sc.domain);
+  } else if (kind == "insertion") {
+    read_insertion(s, src, sc);
   } else {
     read_inflow(s, src, sc);
   }
@@ -781,8 +845,9 @@ void read_stop(Section s, Scenario& sc) {
   if (st.after_inflow) {
     const ParticleSource* inflow = inflow_source(sc);
     if (!inflow || !(inflow->mass_limit > 0))
-      s.fail("after_inflow", "needs a [[particles]] source = \"inflow\" with a mass_limit (kg): the condition is checked once it has "
-                             "released its last grain" + std::string(!inflow ? "; the scenario has no inflow" : "; its inflow has no mass_limit"));
+      s.fail("after_inflow", "needs a [[particles]] source = \"inflow\" or \"insertion\" with a mass_limit (kg): the condition is "
+                             "checked once it has released its last grain" +
+                                 std::string(!inflow ? "; the scenario has no inflow or insertion" : "; its source has no mass_limit"));
   }
   s.finish();
   sc.stops.push_back(st);

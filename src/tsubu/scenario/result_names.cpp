@@ -19,7 +19,7 @@ std::vector<std::string> analysis_result_names(const AnalysisSpec& a) {
 
 const ParticleSource* inflow_source(const Scenario& sc) {
   for (const ParticleSource& src : sc.sources)
-    if (src.kind == ParticleSource::Kind::inflow) return &src;
+    if (src.kind == ParticleSource::Kind::inflow || src.kind == ParticleSource::Kind::insertion) return &src;
   return nullptr;
 }
 

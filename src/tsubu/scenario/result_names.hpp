@@ -22,7 +22,8 @@ namespace tsubu {
 //   profiles: none (its profiles go to their own files, analysis/profiles.hpp).
 std::vector<std::string> analysis_result_names(const AnalysisSpec& a);
 
-// The scenario's inflow source, if it has one (at most one); nullptr without.
+// The scenario's source whose grains arrive during the run (source = "inflow" or
+// "insertion"), if it has one (at most one); nullptr without.
 const ParticleSource* inflow_source(const Scenario& sc);
 
 // The built-in columns of series.csv, before the analyses' results: time, the energies,

@@ -18,8 +18,18 @@
 
 namespace tsubu {
 
+// Where an insertion source places its grains: a box [lower, upper], or a cylinder of
+// `radius` about the axis from `point` (the centre of its base) along `axis` for `length`.
+struct InsertionRegion {
+  enum class Shape { box, cylinder };
+  Shape shape = Shape::box;
+  Vec3 lower, upper;  // box, m
+  Vec3 point, axis;   // cylinder
+  double radius = 0, length = 0;  // cylinder, m
+};
+
 struct ParticleSource {
-  enum class Kind { csv, file, lattice, random, inflow };
+  enum class Kind { csv, file, lattice, random, inflow, insertion };
   Kind kind = Kind::csv;
   SourceLocation where;                 // the [[particles]] table
   std::vector<SourceLocation> key_where;  // each of its keys: its line or the --set that gave it
@@ -36,13 +46,17 @@ struct ParticleSource {
   double diameter = 0;             // lattice, m
   double spacing = 0;              // lattice, m
   double solid_fraction = 0;       // random; inflow: phi_0 of the virtual column
-  SizeDistribution sizes;          // random, inflow
-  Vec3 velocity;                   // lattice, random: initial velocity, m/s
+  SizeDistribution sizes;          // random, inflow, insertion
+  Vec3 velocity;                   // lattice, random, insertion: initial velocity, m/s
   // inflow (docs/sedimentation.md): grains arrive during the run, none at the start
   double entry_height = 0;    // z_c, m
   double fall_speed = 0;      // u_r, m/s: as given, or Rubey's speed of the largest grain
-  double mass_limit = 0;      // kg, 0: none
+  double mass_limit = 0;      // kg, 0: none (also insertion)
   double omega_star_rms = 0;  // Omega*_rms of the initial spin
+  // insertion (docs/scenario.md): grains placed in a region during the run, none at the start
+  InsertionRegion region;
+  double mass_rate = 0;  // kg/s; 0: the whole mass_limit at `start`
+  double start = 0;      // s
 };
 
 struct PairContactSpec {

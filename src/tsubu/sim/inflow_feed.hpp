@@ -1,17 +1,21 @@
-// The scenario's inflow (source = "inflow"), fed into a Simulation (Simulation::feed): at
-// every step boundary the grains due by then enter the box (source/inflow.hpp, admit_due)
-// and the Simulation makes them join the run. Its grains get the ids first_id,
-// first_id + 1, ... in the order the column releases them (first_id = the particles the
-// other sources made).
+// The scenario's grains that arrive during the run, fed into a Simulation (Simulation::feed):
+// the inflow's column (source = "inflow", source/inflow.hpp) or an insertion region (source =
+// "insertion", source/insertion.hpp). At every step boundary the grains due by then enter
+// the box (source/admission.hpp) and the Simulation makes them join the run. Its grains get
+// the ids first_id, first_id + 1, ... in the order the source releases them (first_id = the
+// particles the other sources made).
 #pragma once
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "tsubu/scenario/scenario.hpp"
+#include "tsubu/source/admission.hpp"
 #include "tsubu/source/inflow.hpp"
+#include "tsubu/source/insertion.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -29,9 +33,12 @@ class InflowFeed {
   void admit(const World& w, Particles& arrivals, const OverlapAgreement& agree);
 
   std::int64_t first_id() const { return first_id_; }
-  const InflowColumn& column() const { return stream_.column(); }
+  // The sizes of the grains it releases.
+  const SizeDistribution& sizes() const;
   // The stream has released its last grain (its mass limit reached, none waiting).
-  bool ended() const { return stream_.exhausted(); }
+  bool ended() const;
+  // inflow_rates (the column) or insertion_rates: what `tsubu check` prints.
+  std::vector<std::pair<std::string, double>> rates() const;
   // The mass of the inflow's grains in the box (kg).
   double mass_in_box(const World& w) const;
   // inflow_rates and inflow_counts (source/inflow.hpp), and inflow_F_measured: the mass
@@ -39,11 +46,11 @@ class InflowFeed {
   std::vector<std::pair<std::string, double>> results(double time, double mass_entered) const;
 
   // The stream's state for checkpoints (encode_inflow_state), and back.
-  std::string state() const { return encode_inflow_state(stream_.state()); }
-  void restore(std::string_view bytes) { stream_.restore(decode_inflow_state(bytes)); }
+  std::string state() const;
+  void restore(std::string_view bytes);
 
  private:
-  InflowStream stream_;
+  std::variant<InflowStream, InsertionStream> stream_;
   int material_;
   std::int64_t first_id_;
 };

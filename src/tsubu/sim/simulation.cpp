@@ -96,7 +96,7 @@ std::pair<double, double> Simulation::radius_range() const {
   double smallest = r.empty() ? 0.0 : *std::min_element(r.begin(), r.end());
   double largest = r.empty() ? 0.0 : *std::max_element(r.begin(), r.end());
   if (inflow_) {
-    const SizeDistribution& sizes = inflow_->column().sizes;
+    const SizeDistribution& sizes = inflow_->sizes();
     smallest = r.empty() ? 0.5 * sizes.smallest() : std::min(smallest, 0.5 * sizes.smallest());
     largest = std::max(largest, 0.5 * sizes.largest());
   }

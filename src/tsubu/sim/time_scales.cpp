@@ -70,7 +70,9 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
   double fastest = 0;
   for (const Vec3& v : w.particles.velocity) fastest = std::max(fastest, norm(v));
   consider(2 * fastest, "twice the largest initial particle speed");
-  if (const ParticleSource* src = inflow_source(sc)) consider(src->fall_speed, "the inflow's entry speed");
+  if (const ParticleSource* src = inflow_source(sc))
+    consider(src->kind == ParticleSource::Kind::insertion ? norm(src->velocity) : src->fall_speed,
+             src->kind == ParticleSource::Kind::insertion ? "the insertion's speed" : "the inflow's entry speed");
   for (const Wall& wall : sc.walls)
     for (const WallMotion& m : wall.motion) consider(norm(m.velocity) + fastest, "a moving wall");
   for (const Wall& wall : sc.walls) {  // a moving surface: its fastest point in the box (a corner, for a turntable)

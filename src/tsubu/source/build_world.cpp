@@ -137,6 +137,18 @@ InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
   return c;
 }
 
+Insertion insertion_of(const Scenario& sc, const ParticleSource& src) {
+  Insertion i;
+  i.region = src.region;
+  i.sizes = src.sizes;
+  i.density = sc.materials[static_cast<std::size_t>(src.material)].density;
+  i.mass_rate = src.mass_rate;
+  i.mass_limit = src.mass_limit;
+  i.start = src.start;
+  i.velocity = src.velocity;
+  return i;
+}
+
 World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
@@ -169,6 +181,7 @@ World build_world(const Scenario& sc) {
       check_inflow_slab(sc, src);
       continue;
     }
+    if (src.kind == ParticleSource::Kind::insertion) continue;  // so do these
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
                            : src.kind == ParticleSource::Kind::file    ? read_state_grains(src, sc.materials.size())
                            : src.kind == ParticleSource::Kind::lattice ? lattice_grains(src)
@@ -210,13 +223,12 @@ World build_world(const Scenario& sc) {
     }
     w.source_ids.back().second = static_cast<std::int64_t>(grains.size());
   }
-  for (std::size_t k = 0; k < sc.sources.size(); ++k)  // the inflow's ids follow the built grains
-    if (sc.sources[k].kind == ParticleSource::Kind::inflow)
-      w.source_ids[k] = {static_cast<std::int64_t>(grains.size()), std::numeric_limits<std::int64_t>::max()};
+  if (const ParticleSource* arriving = inflow_source(sc))  // the inflow's or insertion's ids follow the built grains
+    w.source_ids[static_cast<std::size_t>(arriving - sc.sources.data())] = {static_cast<std::int64_t>(grains.size()),
+                                                                              std::numeric_limits<std::int64_t>::max()};
   double d_max = 2 * std::accumulate(w.particles.radius.begin(), w.particles.radius.end(), 0.0,
                                      [](double a, double b) { return std::max(a, b); });
-  for (const auto& src : sc.sources)
-    if (src.kind == ParticleSource::Kind::inflow) d_max = std::max(d_max, src.sizes.largest());
+  if (const ParticleSource* arriving = inflow_source(sc)) d_max = std::max(d_max, arriving->sizes.largest());
   for (int k = 0; k < 3; ++k)
     if (sc.domain.periodic[k] && sc.domain.length(k) < 2 * d_max) {
       std::ostringstream s;

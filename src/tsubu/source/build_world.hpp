@@ -5,6 +5,7 @@
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/model/model.hpp"
 #include "tsubu/source/inflow.hpp"
+#include "tsubu/source/insertion.hpp"
 #include "tsubu/world/world.hpp"
 
 namespace tsubu {
@@ -16,6 +17,8 @@ World build_world(const Scenario& scenario);
 // stream is InflowStream(inflow_column(sc, *src), sc.seed); its grains get the ids after
 // build_world's (first_id = the number of particles build_world made).
 InflowColumn inflow_column(const Scenario& scenario, const ParticleSource& src);
+// An insertion source's region, sizes, rates and velocity (source/insertion.hpp).
+Insertion insertion_of(const Scenario& scenario, const ParticleSource& src);
 
 // The box, walls and clock settings, without particles (tsubu resume takes those from a
 // checkpoint).

@@ -20,13 +20,6 @@ constexpr double kGrainsPerSlab = 50;     // the slab height holds about this ma
 
 double grain_mass(double density, double d) { return density * M_PI / 6 * d * d * d; }
 
-// splitmix64 finaliser: independent-looking seeds for the column's regions.
-std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 // The column in its own frame: x, y over the base (periodic), height above z_c.
 Domain column_frame(const InflowColumn& c) {
   return {{c.x_low, c.y_low, 0}, {c.x_low + c.length_x, c.y_low + c.length_y, 1}, {true, true, false}};
@@ -53,7 +46,7 @@ double InflowColumn::slab_height() const { return std::max(4 * sizes.largest(), 
 double InflowColumn::slab_grains() const { return (slab_height() + 2 * sizes.largest()) * grains_per_height(*this); }
 
 InflowStream::InflowStream(const InflowColumn& column, std::uint64_t seed)
-    : column_(column), seed_(mix(seed ^ 0x1f10c0de5eed5ULL)), slab_height_(column.slab_height()), band_(column.sizes.largest()) {
+    : column_(column), seed_(mix64(seed ^ 0x1f10c0de5eed5ULL)), slab_height_(column.slab_height()), band_(column.sizes.largest()) {
   slab_ = slab(0);
 }
 
@@ -61,7 +54,7 @@ InflowStream::InflowStream(const InflowColumn& column, std::uint64_t seed)
 // average (the last one kept with the probability of the volume still missing over its
 // own), placed largest first without overlap against `grid`, then their spins.
 void InflowStream::fill(std::uint64_t region, double lo, double hi, SphereGrid& grid, std::vector<Placed>& out) const {
-  Random rng(mix(seed_ + mix(region)));
+  Random rng(mix64(seed_ + mix64(region)));
   const double target = column_.solid_fraction * column_.area() * (hi - lo);
   std::vector<double> diameters;
   for (double volume = 0;;) {
@@ -249,38 +242,11 @@ SphereGrid entry_neighbours(const Domain& domain, std::span<const Vec3> position
   return grid;
 }
 
-Admission admit_due(InflowStream& stream, double t, const Domain& domain, const Particles& present, std::size_t seen,
-                    Particles& into, int material, std::int64_t first_id, const OverlapAgreement& agree) {
-  Admission a;
-  const std::vector<NewGrain> due = stream.due(t);
-  if (due.empty()) return a;
-  const InflowColumn& c = stream.column();
-  double lowest = c.entry_height;
-  for (const NewGrain& g : due) lowest = std::min(lowest, stream.position(g, t).z);
-  SphereGrid grid = entry_neighbours(domain, std::span(present.position).first(seen), std::span(present.radius).first(seen),
-                                     lowest, 0.5 * c.sizes.largest());
-  std::vector<char> taken(due.size());  // its place holds a particle already there
-  for (std::size_t k = 0; k < due.size(); ++k) taken[k] = grid.overlaps(stream.position(due[k], t), 0.5 * due[k].diameter);
-  if (agree) agree(taken);
-  for (std::size_t k = 0; k < due.size(); ++k) {
-    const NewGrain& g = due[k];
-    const Vec3 x = stream.position(g, t);
-    if (taken[k] || grid.overlaps(x, 0.5 * g.diameter)) {  // or one inserted just before it
-      stream.delay(g);
-      ++a.delayed;
-      continue;
-    }
-    grid.add(x, 0.5 * g.diameter);
-    into.add(first_id + g.serial, material, g.diameter, c.density, x, stream.velocity());
-    into.omega.back() = g.omega;
-    ++a.entered;
-  }
-  return a;
-}
-
-Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
-                    std::int64_t first_id) {
-  return admit_due(stream, t, domain, particles, particles.size(), particles, material, first_id, {});
+SphereGrid InflowStream::neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
+                                    const std::vector<NewGrain>& due, double t) const {
+  double lowest = column_.entry_height;
+  for (const NewGrain& g : due) lowest = std::min(lowest, this->position(g, t).z);
+  return entry_neighbours(domain, position, radius, lowest, 0.5 * column_.sizes.largest());
 }
 
 }  // namespace tsubu

@@ -17,7 +17,6 @@
 // kept with the probability (target - volume so far)/its volume.
 #pragma once
 #include <cstdint>
-#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -28,7 +27,6 @@
 #include "tsubu/core/vec3.hpp"
 #include "tsubu/search/sphere_grid.hpp"
 #include "tsubu/world/domain.hpp"
-#include "tsubu/world/particles.hpp"
 
 namespace tsubu {
 
@@ -93,6 +91,12 @@ class InflowStream {
     return {g.x, g.y, column_.entry_height - column_.speed * (t - g.arrival)};
   }
   Vec3 velocity() const { return {0, 0, -column_.speed}; }
+  double density() const { return column_.density; }
+  // The column enters through its plane whatever walls stand there.
+  bool clear_of_walls(const Vec3&, double, std::span<const Wall>) const { return true; }
+  // entry_neighbours for the grains `due` at t.
+  SphereGrid neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
+                        const std::vector<NewGrain>& due, double t) const;
 
   // The mass limit has stopped the column and no grain is waiting.
   bool exhausted() const { return state_.limit_reached && state_.waiting.empty(); }
@@ -137,26 +141,5 @@ InflowStream::State decode_inflow_state(std::string_view bytes);
 // add() each one inserted; the domain gives the periodic sides.
 SphereGrid entry_neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
                             double lowest, double entering_radius);
-
-// What admit_due() did at one time.
-struct Admission {
-  std::size_t entered = 0, delayed = 0;
-};
-
-// Inserts the grains due at time t into `particles` (of `material`, the column's density),
-// each at position(g, t), velocity -u_r and its spin, id = first_id + serial. A grain that
-// would overlap a particle already there (or one inserted just before it) goes back to the
-// stream with delay() instead: never dropped, never overlapped. `domain` gives the periodic
-// sides; only the particles near the entry plane are looked at.
-Admission admit_due(InflowStream& stream, double t, const Domain& domain, Particles& particles, int material,
-                    std::int64_t first_id);
-// The same, in a run split among processes: only the first `seen` particles of `present` (a
-// process's own) are looked at, and `agree` makes "the place of due grain k is taken" (one
-// flag each, in the order of due()) that of any process (an elementwise or), so that every
-// process admits the same grains and leaves the stream in the same state; the grains that
-// enter are appended to `into`.
-using OverlapAgreement = std::function<void(std::vector<char>& taken)>;
-Admission admit_due(InflowStream& stream, double t, const Domain& domain, const Particles& present, std::size_t seen,
-                    Particles& into, int material, std::int64_t first_id, const OverlapAgreement& agree);
 
 }  // namespace tsubu
