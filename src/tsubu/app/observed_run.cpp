@@ -26,6 +26,8 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
   }
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (sc.domain.any_open()) refuse("domain.open");
+  // Its grains enter alike on every process, but the series' elastic energy of a split
+  // insertion has differed at a row from one process's (docs/parallel.md): refused until then.
   if (const ParticleSource* src = inflow_source(sc); src && src->kind == ParticleSource::Kind::insertion)
     refuse(src->where.key + ".source = \"insertion\"");
   if (const int seen = Communicator::world().size(); seen != processes)

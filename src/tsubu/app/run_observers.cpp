@@ -29,8 +29,9 @@ RunObservers::RunObservers(const Scenario& sc, const Simulation& sim, const std:
       vtk_every_(sc.output.vtk_interval > 0 ? every(sc.output.vtk_interval, sc.dt) : 0),
       monitor_(sc.analyses, sc.stops),
       files_(sc, sim, out_dir, monitor_.names(), from),
-      // Entering grains bring energy: no energy-growth check with an inflow.
-      energy_watch_(sim.world(), sim.model(), sim.inflow() ? 0.0 : sc.energy_growth_limit) {
+      // Entering grains bring energy: no energy-growth check with an inflow or insertion (the
+      // scenario's, which a split run's observed state is fed only at its first gathering).
+      energy_watch_(sim.world(), sim.model(), inflow_source(sc) ? 0.0 : sc.energy_growth_limit) {
   if (from) energy_watch_.restore(from->energy_watch);
 }
 
