@@ -509,6 +509,29 @@ TEST(Resume, DuringAnInsertionFromAnEarlierCheckpointTheRunEndsBitIdentical) {
   EXPECT_EQ(results(ref), results(cut));
 }
 
+// A belt that stops (tests/scenarios/belt_stops.toml, surface_motion in stretches): a run
+// ended at 0.045 s, after the belt stopped at 0.03 s, resumes to 0.06 s as the uninterrupted
+// run: the surface's motion is that of the stretch holding the last step, not the first.
+TEST(Resume, AfterASurfaceStretchEndedTheRunEndsBitIdentical) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  auto args = [&](const fs::path& out, const char* duration) {
+    return std::vector<std::string>{"run", (kScenarios / "belt_stops.toml").string(), "--out", out.string(), "--set",
+                                    "output.checkpoint_every_steps=7500", "--set", "output.series_interval=5e-4", "--set",
+                                    "output.vtk_interval=0.005", "--set", std::string("simulation.duration=") + duration};
+  };
+  ASSERT_EQ(run(args(ref, "0.06"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  ASSERT_EQ(run(args(cut, "0.045"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
+  // The world read back holds the belt standing still, as the run left it.
+  const fs::path newest = list_checkpoints(cut / "checkpoint").front();
+  Checkpoint c = read_checkpoint(newest);
+  const World restored = world_of_checkpoint(load_scenario((kScenarios / "belt_stops.toml").string()), c, newest);
+  EXPECT_EQ(restored.walls[0].surface_velocity, Vec3{});
+  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=0.06"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut, true);  // the state's record of the --set values differs
+}
+
 TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_VelocityVerlet) {
   // A smaller step than the scenario's: the run lasts a few seconds, long enough to be killed.
   expect_inflow_resume_bit_identical({"simulation.dt=5e-6", "output.checkpoint_every_steps=4000"});

@@ -2,6 +2,8 @@
 // angular_velocity): a sphere dropped on a conveyor belt ends rolling at 2/7 of the belt's
 // speed, with velocity Verlet and with block steps; a turntable drives it as a belt of the
 // surface's local speed; a wall whose surface stands still gives the bits it gave before.
+// In stretches (surface_motion): a belt in one stretch is the constant belt to the bit, and
+// a sphere rolling on a belt that stops comes to rest with it.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -56,6 +58,28 @@ TEST(WallSurface, ATurntableDrivesASphereAsABeltOfItsLocalSpeed) {
     EXPECT_NEAR(b.x / a.x, 1.0, 1e-2) << integrator;
     EXPECT_LT(std::abs(b.y), 1e-2 * a.x) << integrator;
   }
+}
+
+// The belt of belt_stops.toml runs in one stretch until 0.03 s: before then it is the
+// constant belt of belt.toml, bit for bit.
+TEST(WallSurface, ABeltInOneStretchIsTheConstantBelt) {
+  const World constant = run_test_scenario("belt.toml", {"simulation.duration=0.02"});
+  const World stretch = run_test_scenario("belt_stops.toml", {"simulation.duration=0.02"});
+  EXPECT_TRUE(testing::same_particle_bits(constant, stretch));
+}
+
+// Rolling at 2/7 of the belt's speed, the sphere has no angular momentum about its contact
+// point (m R v + I w_y = m R vb (2/7 - 2/5 5/7) = 0), which friction, acting at that point,
+// cannot change: when the belt stops at 0.03 s, the sphere slips to rest. 2e-3 of its
+// rolling speed allows for the contact's lever arm, as above.
+TEST(WallSurface, ASphereRollingOnABeltStopsWhenTheBeltStops) {
+  const World rolling = run_test_scenario("belt_stops.toml", {"simulation.duration=0.03"});
+  const World stopped = run_test_scenario("belt_stops.toml");
+  const Vec3 v0 = rolling.particles.velocity[0], v = stopped.particles.velocity[0], w = stopped.particles.omega[0];
+  std::printf("at 0.03 s v = %.6f m/s; at 0.06 s v = %.3g m/s, R w_y = %.3g m/s\n", v0.x, v.x, kRadius * w.y);
+  EXPECT_NEAR(v0.x / (2.0 / 7.0 * kBelt), 1.0, 2e-3);
+  EXPECT_LT(std::abs(v.x), 2e-3 * 2.0 / 7.0 * kBelt);
+  EXPECT_LT(std::abs(kRadius * w.y), 2e-3 * 2.0 / 7.0 * kBelt);
 }
 
 // On Dual the surface's velocity carries the rate of a turning surface under a moving

@@ -452,8 +452,10 @@ World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesyst
   if (c.wall_points.size() != world.walls.size())
     throw std::runtime_error(file.string() + ": it stores " + std::to_string(c.wall_points.size()) +
                              " walls, the scenario has " + std::to_string(world.walls.size()));
-  for (std::size_t k = 0; k < world.walls.size(); ++k)
+  for (std::size_t k = 0; k < world.walls.size(); ++k) {
     world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
+    if (c.step > 0) world.walls[k].surface_during(c.time - 0.5 * world.dt);  // as the last step set it
+  }
   return world;
 }
 

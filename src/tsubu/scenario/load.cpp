@@ -236,22 +236,65 @@ void read_contact(Section s, Scenario& sc) {
   s.finish();
 }
 
-// A wall's surface motion within its plane (Wall): a velocity in the plane, a rotation about
-// the normal through `center`. Components out of the plane, or across the normal, would move
-// the geometry: refused unless they are rounding (the vector is then projected).
-void read_surface_motion(Section& s, Wall& w) {
-  constexpr double kRounding = 1e-9;  // of the vector's length
+constexpr double kRounding = 1e-9;  // of a vector's length: components across it that are rounding
+
+// The end of a stretch of motion (`until` of m), later than the end of the one before it.
+double stretch_end(Section& m, double& previous) {
+  const double until = m.positive("until");
+  if (!(until > previous)) m.fail("until", "must be later than the end of the previous stretch (" + num(previous) + " s)" + got(until));
+  return previous = until;
+}
+
+// A velocity within the plane of normal n (`surface_velocity` of s): components out of the
+// plane would move the geometry, refused unless they are rounding (the vector is projected).
+Vec3 velocity_in_plane(Section& s, const Vec3& n) {
   const Vec3 v = s.vec3("surface_velocity", {});
-  if (const double across = dot(v, w.normal); std::abs(across) > kRounding * norm(v))
+  if (const double across = dot(v, n); std::abs(across) > kRounding * norm(v))
     s.fail("surface_velocity", "must lie in the wall's plane (perpendicular to its normal): its component along the normal is " +
                                    num(across) + " m/s; a wall that moves across its plane takes a `motion`");
-  w.surface_velocity = v - dot(v, w.normal) * w.normal;
+  return v - dot(v, n) * n;
+}
+
+// A rotation about the unit vector `about` (`angular_velocity` of s), which moves no geometry;
+// components across it are refused unless they are rounding.
+Vec3 rotation_about(Section& s, const Vec3& about, const std::string& what) {
   const Vec3 omega = s.vec3("angular_velocity", {});
-  if (const double off = norm(cross(omega, w.normal)); off > kRounding * norm(omega))
-    s.fail("angular_velocity", "must be along the wall's normal (a turntable: the rotation moves no geometry of the plane); "
-                               "its component across the normal is " + num(off) + " rad/s");
-  w.angular_velocity = dot(omega, w.normal) * w.normal;
-  if (s.has("center") && w.angular_velocity == Vec3{})
+  if (const double off = norm(cross(omega, about)); off > kRounding * norm(omega))
+    s.fail("angular_velocity", "must be along " + what + " (the rotation moves no geometry); its component across it is " +
+                                   num(off) + " rad/s");
+  return dot(omega, about) * about;
+}
+
+// A wall's surface motion, which moves no geometry (Wall): constant (surface_velocity within
+// a plane, angular_velocity about its normal or axis, `what`) or in stretches of time
+// (surface_motion, each with `until` and either of the two); a plane's rotation is about
+// `center`.
+void read_surface_motion(Section& s, const Scenario& sc, Wall& w, const Vec3& about, const std::string& what) {
+  const bool plane = w.shape == WallShape::plane;
+  if (s.has("surface_motion")) {
+    for (const char* key : {"surface_velocity", "angular_velocity"})
+      if (s.has(key)) s.fail(key, "give the surface's motion either as constant values or as surface_motion stretches, not both");
+    if (sc.integrator == Integrator::block_hermite)
+      s.fail("surface_motion", "needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or \"symplectic_euler\"); "
+                               "block steps take a constant surface motion only yet");
+    double previous = 0;
+    for (Section m : s.tables("surface_motion")) {
+      SurfaceMotion stretch;
+      stretch.until = stretch_end(m, previous);
+      if (plane) stretch.surface_velocity = velocity_in_plane(m, w.normal);
+      stretch.angular_velocity = rotation_about(m, about, what);
+      m.finish();
+      w.surface_motion.push_back(stretch);
+    }
+  } else {
+    if (plane) w.surface_velocity = velocity_in_plane(s, w.normal);
+    w.angular_velocity = rotation_about(s, about, what);
+  }
+  if (!plane) return;
+  const bool turns = !(w.angular_velocity == Vec3{}) ||
+                     std::any_of(w.surface_motion.begin(), w.surface_motion.end(),
+                                 [](const SurfaceMotion& m) { return !(m.angular_velocity == Vec3{}); });
+  if (s.has("center") && !turns)
     s.fail("center", "is the axis of the surface's rotation: give angular_velocity too, or leave center out");
   w.axis_offset = s.vec3("center", w.point) - w.point;
 }
@@ -278,7 +321,8 @@ void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string&
   for (const char* key : {"normal", "motion", "surface_velocity", "center"})
     if (s.has(key))
       s.fail(key, "is not a " + shape + "'s: a " + shape + " takes " + keys +
-                      ", side, material and angular_velocity (about its axis); it does not move otherwise");
+                      ", side, material and angular_velocity or surface_motion (turning about its axis); it does not move "
+                      "otherwise");
   w.point = s.vec3("point");
   const Vec3 a = s.vec3("axis");
   if (!std::isnormal(norm(a)))
@@ -296,12 +340,7 @@ void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string&
     w.radius = s.positive("radius");
   }
   w.inside = s.choice("side", {"inside", "outside"}, std::string("inside")) == "inside";
-  constexpr double kRounding = 1e-9;  // of the vector's length
-  const Vec3 omega = s.vec3("angular_velocity", {});
-  if (const double off = norm(cross(omega, w.axis)); off > kRounding * norm(omega))
-    s.fail("angular_velocity", "must be along the " + shape + "'s axis (turning about it: the rotation moves no geometry); its "
-                               "component across the axis is " + num(off) + " rad/s");
-  w.angular_velocity = dot(omega, w.axis) * w.axis;
+  read_surface_motion(s, sc, w, w.axis, "the " + shape + "'s axis");
 }
 
 void read_wall(Section s, Scenario& sc) {
@@ -327,15 +366,12 @@ void read_wall(Section s, Scenario& sc) {
   double previous = 0;
   for (Section m : s.tables("motion")) {
     WallMotion stretch;
-    stretch.until = m.positive("until");
-    if (!(stretch.until > previous))
-      m.fail("until", "must be later than the end of the previous stretch (" + num(previous) + " s)" + got(stretch.until));
+    stretch.until = stretch_end(m, previous);
     stretch.velocity = m.vec3("velocity");
     m.finish();
-    previous = stretch.until;
     w.motion.push_back(stretch);
   }
-  read_surface_motion(s, w);
+  read_surface_motion(s, sc, w, w.normal, "the wall's normal");
   s.finish();
   sc.walls.push_back(w);
 }

@@ -77,12 +77,18 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
     for (const WallMotion& m : wall.motion) consider(norm(m.velocity) + fastest, "a moving wall");
   for (const Wall& wall : sc.walls) {  // a moving surface: its fastest point in the box (a corner, for a turntable)
     if (!wall.surface_moves()) continue;
-    double surface = 0;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 x{(corner & 1 ? sc.domain.upper : sc.domain.lower).x, (corner & 2 ? sc.domain.upper : sc.domain.lower).y,
-                   (corner & 4 ? sc.domain.upper : sc.domain.lower).z};
-      surface = std::max(surface, norm(wall.surface_velocity_at(x) - wall.velocity));
+    std::vector<Wall> stretches(1, wall);  // each stretch of its surface's motion, or its constant motion
+    for (const SurfaceMotion& m : wall.surface_motion) {
+      stretches.push_back(wall);
+      stretches.back().surface_during(0.5 * m.until + 0.5 * (&m == wall.surface_motion.data() ? 0.0 : (&m - 1)->until));
     }
+    double surface = 0;
+    for (const Wall& w : stretches)
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 x{(corner & 1 ? sc.domain.upper : sc.domain.lower).x, (corner & 2 ? sc.domain.upper : sc.domain.lower).y,
+                     (corner & 4 ? sc.domain.upper : sc.domain.lower).z};
+        surface = std::max(surface, norm(w.surface_velocity_at(x) - w.velocity));
+      }
     consider(surface + fastest, "a wall's moving surface");
   }
   consider(sc.block_steps.u_floor, "no motion foreseen: the floor " + fmt(sc.block_steps.u_floor) + " m/s");

@@ -153,6 +153,7 @@ World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
   w.walls = sc.walls;
+  for (Wall& wall : w.walls) wall.surface_during(0.5 * sc.dt);  // as the first step's evaluation sees it
   w.dt = sc.dt;
   return w;
 }

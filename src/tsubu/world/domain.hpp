@@ -79,6 +79,14 @@ struct WallMotion {
   Vec3 velocity;     // m/s
 };
 
+// A stretch of a wall's surface motion, which moves no geometry: a velocity within a plane
+// and a rotation (about a plane's normal, a cylinder's or cone's axis) until the time `until`.
+struct SurfaceMotion {
+  double until = 0;         // s
+  Vec3 surface_velocity;    // m/s
+  Vec3 angular_velocity;    // rad/s
+};
+
 // A unit vector perpendicular to the unit vector a.
 inline Vec3 perpendicular(const Vec3& a) {
   int least = 0;  // the axis least aligned with a
@@ -126,8 +134,11 @@ struct Wall {
   int material = 0;
   std::vector<WallMotion> motion;  // in time order; empty: a fixed wall
   Vec3 velocity;                   // m/s, during the current step
-  Vec3 surface_velocity;           // m/s, in the plane
-  Vec3 angular_velocity;           // rad/s, along the normal
+  Vec3 surface_velocity;           // m/s, in the plane, during the current step
+  Vec3 angular_velocity;           // rad/s, along the normal or the axis, during the current step
+  // The surface's motion in stretches, in time order (empty: the constant surface_velocity
+  // and angular_velocity above); after the last one the surface stands still.
+  std::vector<SurfaceMotion> surface_motion;
   Vec3 axis_offset;                // m, a point of the rotation's axis, from `point` (it moves with the wall)
   WallShape shape = WallShape::plane;
   Vec3 axis;           // cylinder, cone
@@ -185,7 +196,9 @@ struct Wall {
     return inside ? towards_axis : -towards_axis;
   }
 
-  bool surface_moves() const { return !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{}); }
+  bool surface_moves() const {
+    return !surface_motion.empty() || !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{});
+  }
   // The velocity of the surface at the nearest point to x, where x touches it (t = touch(x)).
   // On a plane's face the rotation is about the normal, so its part is the same at x itself,
   // which is used; on a hole's rim, a cylinder and a cone the nearest point is.
@@ -216,11 +229,22 @@ struct Wall {
     return v;
   }
 
-  // Moves the plane over the step [t, t + dt].
+  // Moves the plane over the step [t, t + dt], and sets its surface's motion for it.
   void advance(double t, double dt) {
+    surface_during(t + 0.5 * dt);
     if (motion.empty()) return;
     velocity = velocity_at(t + 0.5 * dt);
     point += velocity * dt;
+  }
+  // The surface's motion of the stretch that holds the time t (standing still after the last).
+  void surface_during(double t) {
+    if (surface_motion.empty()) return;
+    surface_velocity = angular_velocity = Vec3{};
+    for (const SurfaceMotion& m : surface_motion)
+      if (t < m.until) {
+        surface_velocity = m.surface_velocity, angular_velocity = m.angular_velocity;
+        break;
+      }
   }
 };
 
