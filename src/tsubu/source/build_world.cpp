@@ -118,6 +118,23 @@ void check_inflow_slab(const Scenario& sc, const ParticleSource& src) {
   throw InputError(src.at("distribution"), s.str());
 }
 
+// An insertion releases at most its mass rate over the run after its start, and at most its
+// mass_limit: counted from the distribution's mean grain, as the inflow's slab is, so that a
+// rate typed in the wrong unit is refused instead of filling the memory.
+void check_insertion_count(const Scenario& sc, const ParticleSource& src) {
+  const Insertion i = insertion_of(sc, src);
+  const double rate_mass = i.mass_rate > 0 ? i.mass_rate * std::max(0.0, sc.duration - i.start) : INFINITY;
+  const double mass = i.mass_limit > 0 ? std::min(i.mass_limit, rate_mass) : rate_mass;
+  const double grains = mass / (i.density * mean_grain_volume(i.sizes));
+  if (grains <= static_cast<double>(particle_limit())) return;
+  std::ostringstream s;
+  s << "the insertion would release " << std::setprecision(3) << grains << " grains of this distribution in the run ("
+    << format_number(mass) << " kg, a mean grain of " << i.density * mean_grain_volume(i.sizes)
+    << " kg); this machine holds at most " << particle_limit()
+    << " particles: lower mass_rate (kg/s) or mass_limit (kg), or shorten the run";
+  throw InputError(src.at(i.mass_limit > 0 && i.mass_limit <= rate_mass ? "mass_limit" : "mass_rate"), s.str());
+}
+
 }  // namespace
 
 InflowColumn inflow_column(const Scenario& sc, const ParticleSource& src) {
@@ -182,7 +199,10 @@ World build_world(const Scenario& sc) {
       check_inflow_slab(sc, src);
       continue;
     }
-    if (src.kind == ParticleSource::Kind::insertion) continue;  // so do these
+    if (src.kind == ParticleSource::Kind::insertion) {  // so do these
+      check_insertion_count(sc, src);
+      continue;
+    }
     std::vector<Grain> g = src.kind == ParticleSource::Kind::csv       ? read_csv_grains(src)
                            : src.kind == ParticleSource::Kind::file    ? read_state_grains(src, sc.materials.size())
                            : src.kind == ParticleSource::Kind::lattice ? lattice_grains(src)
