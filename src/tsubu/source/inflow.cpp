@@ -9,6 +9,7 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/random.hpp"
 #include "tsubu/search/sphere_grid.hpp"
+#include "tsubu/source/release.hpp"
 #include "tsubu/source/size_moments.hpp"
 
 namespace tsubu {
@@ -17,8 +18,6 @@ namespace {
 
 constexpr int kAttempts = 100000;         // placements tried per grain
 constexpr double kGrainsPerSlab = 50;     // the slab height holds about this many grains
-
-double grain_mass(double density, double d) { return density * M_PI / 6 * d * d * d; }
 
 // The column in its own frame: x, y over the base (periodic), height above z_c.
 Domain column_frame(const InflowColumn& c) {
@@ -114,12 +113,7 @@ std::vector<InflowStream::Placed> InflowStream::slab(std::int64_t k) const {
 }
 
 std::vector<NewGrain> InflowStream::due(double t) {
-  std::vector<NewGrain> out;
-  for (NewGrain g : state_.waiting) {
-    g.arrival = t;
-    out.push_back(g);
-  }
-  state_.waiting.clear();
+  std::vector<NewGrain> out = waiting_at(state_, t);
   while (!state_.limit_reached) {
     if (state_.next == static_cast<std::int64_t>(slab_.size())) {
       slab_ = slab(++state_.slab);
@@ -129,24 +123,14 @@ std::vector<NewGrain> InflowStream::due(double t) {
     const Placed& p = slab_[static_cast<std::size_t>(state_.next)];
     const double arrival = p.height / column_.speed;  // paper Eq. 27
     if (arrival > t) break;
-    const double m = grain_mass(column_.density, p.diameter);
-    if (column_.mass_limit > 0 && state_.mass_released + m > column_.mass_limit) {
-      state_.limit_reached = true;
+    if (!release(state_, {state_.released, p.diameter, p.x, p.y, arrival, p.omega, 0}, grain_mass(column_.density, p.diameter),
+                 column_.mass_limit, out))
       break;
-    }
-    out.push_back({state_.released, p.diameter, p.x, p.y, arrival, p.omega, 0});
-    ++state_.released;
-    ++state_.next;
-    state_.mass_released += m;
   }
   return out;
 }
 
-void InflowStream::delay(NewGrain g) {
-  if (g.delays++ == 0) ++state_.delayed_grains;
-  ++state_.delays;
-  state_.waiting.push_back(g);
-}
+void InflowStream::delay(NewGrain g) { turn_back(state_, g); }
 
 void InflowStream::restore(const State& s) {
   if (s.slab < 0) throw std::runtime_error("inflow state: slab " + std::to_string(s.slab) + " does not exist");

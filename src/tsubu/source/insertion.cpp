@@ -5,13 +5,12 @@
 #include <stdexcept>
 
 #include "tsubu/core/random.hpp"
+#include "tsubu/source/release.hpp"
 #include "tsubu/source/size_moments.hpp"
 
 namespace tsubu {
 
 namespace {
-
-double grain_mass(double density, double d) { return density * M_PI / 6 * d * d * d; }
 
 // The corners of the region's bounding box.
 std::pair<Vec3, Vec3> bounds(const InsertionRegion& r) {
@@ -39,34 +38,19 @@ double InsertionStream::diameter(std::int64_t serial) const {
 }
 
 std::vector<NewGrain> InsertionStream::due(double t) {
-  std::vector<NewGrain> out;
-  for (NewGrain g : state_.waiting) {
-    g.arrival = t;
-    out.push_back(g);
-  }
-  state_.waiting.clear();
+  std::vector<NewGrain> out = waiting_at(state_, t);
   while (!state_.limit_reached) {
     const double arrival =
         insertion_.mass_rate > 0 ? insertion_.start + state_.mass_released / insertion_.mass_rate : insertion_.start;
     if (arrival > t) break;
-    const double d = diameter(state_.next), m = grain_mass(insertion_.density, d);
-    if (insertion_.mass_limit > 0 && state_.mass_released + m > insertion_.mass_limit) {
-      state_.limit_reached = true;
+    const double d = diameter(state_.next);
+    if (!release(state_, {state_.next, d, 0, 0, arrival, {}, 0}, grain_mass(insertion_.density, d), insertion_.mass_limit, out))
       break;
-    }
-    out.push_back({state_.next, d, 0, 0, arrival, {}, 0});
-    ++state_.next;
-    ++state_.released;
-    state_.mass_released += m;
   }
   return out;
 }
 
-void InsertionStream::delay(NewGrain g) {
-  if (g.delays++ == 0) ++state_.delayed_grains;
-  ++state_.delays;
-  state_.waiting.push_back(g);
-}
+void InsertionStream::delay(NewGrain g) { turn_back(state_, g); }
 
 Vec3 InsertionStream::position(const NewGrain& g, double) const {
   // Each try of each grain its own stream: the place does not depend on the order of tries.
