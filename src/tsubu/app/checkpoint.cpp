@@ -448,7 +448,7 @@ World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesyst
   world.time = c.time;
   world.source_ids = c.record.source_ids;  // none in a checkpoint of an older tsubu
   for (const Contact& k : world.contacts.walls())
-    if (k.j >= world.walls.size()) throw std::runtime_error(file.string() + ": a wall contact names a wall the scenario lacks");
+    if (k.j >= world.element_count()) throw std::runtime_error(file.string() + ": a wall contact names a wall the scenario lacks");
   if (c.wall_points.size() != world.walls.size())
     throw std::runtime_error(file.string() + ": it stores " + std::to_string(c.wall_points.size()) +
                              " walls, the scenario has " + std::to_string(world.walls.size()));

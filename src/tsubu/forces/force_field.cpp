@@ -181,19 +181,51 @@ void ForceField::build_crowd_list(World& world, const Particles& probe, double m
   crowding_.resize(p.size());
 }
 
+void ForceField::grid_meshes(const World& world, const Particles& probe, double margin) {
+  if (mesh_grids_.size() == world.walls.size()) return;
+  mesh_grids_.assign(world.walls.size(), std::nullopt);
+  // Cells about as wide as a particle's reach or a triangle, whichever is larger: a query
+  // visits a few cells, and a triangle lies in a few.
+  double widest = 0;
+  for (double r : probe.radius) widest = std::max(widest, 2 * (r + margin));
+  for (std::size_t w = 0; w < world.walls.size(); ++w) {
+    const TriangleMesh* mesh = world.walls[w].mesh.get();
+    if (!mesh) continue;
+    double size = 0;
+    for (std::size_t t = 0; t < mesh->size(); ++t) {
+      const Vec3 extent = mesh->upper(t) - mesh->lower(t);
+      size += std::max({extent.x, extent.y, extent.z});
+    }
+    mesh_grids_[w].emplace(*mesh, std::max(widest, size / static_cast<double>(mesh->size())));
+  }
+}
+
 void ForceField::find_wall_contacts(const World& world, const Particles& probe, double margin,
                                     const std::vector<double>& wall_reach, std::vector<Pair>& out) {
   out.clear();
   if (world.walls.empty()) return;
+  grid_meshes(world, probe, margin);
   std::vector<std::vector<Pair>> wall_hits;
   for_each_range(probe.size(), wall_hits, [&](std::size_t begin, std::size_t end, std::vector<Pair>& local) {
+    std::vector<std::uint32_t> near;
     for (std::size_t i = begin; i < end; ++i)
       for (std::size_t w = 0; w < world.walls.size(); ++w) {
-        // Centres in front of the surface (see evaluate_wall) and within the margin of touching.
-        const double dist = world.walls[w].touch(probe.position[i]).distance;
+        const Wall& wall = world.walls[w];
         const double reach = wall_reach.empty() ? 0.0 : wall_reach[w];
+        const auto particle = static_cast<std::uint32_t>(i);
+        if (wall.mesh) {  // the triangles within the margin of touching, from either side
+          const Vec3 x = probe.position[i] - wall.point;
+          const double within = probe.radius[i] + margin + reach;
+          near.clear();
+          mesh_grids_[w]->near(x, within, near);
+          for (std::uint32_t t : near)
+            if (norm2(x - wall.mesh->nearest(t, x).point) < within * within) local.push_back({particle, world.wall_elements[w] + t});
+          continue;
+        }
+        // Centres in front of the surface (see evaluate_wall) and within the margin of touching.
+        const double dist = wall.touch(probe.position[i]).distance;
         if (dist < probe.radius[i] + margin + reach && dist > -margin)
-          local.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(w)});
+          local.push_back({particle, world.wall_elements.empty() ? static_cast<std::uint32_t>(w) : world.wall_elements[w]});
       }
   });
   for (const auto& local : wall_hits) out.insert(out.end(), local.begin(), local.end());
@@ -220,7 +252,42 @@ void ForceField::evaluate_walls(World& world) {
   const auto& contacts = world.contacts.walls();
   wall_results_.resize(contacts.size(), shifts_, rolls_);
   const CurrentState state{p, world.dt};
+  if (!world.wall_elements.empty()) touch_walls(world);
   parallel_for(contacts.size(), [&](std::size_t k) { evaluate_wall(world, state, k, nullptr); });
+}
+
+void ForceField::touch_walls(World& world) {
+  const Particles& p = world.particles;
+  ContactList& contacts = world.contacts;
+  std::vector<Contact>& walls = contacts.walls();
+  wall_touch_.resize(walls.size());
+  wall_counts_.resize(walls.size());
+  auto touching_now = [&](std::uint32_t k) {
+    return wall_counts_[k] && wall_touch_[k].distance < p.radius[walls[k].i] && wall_touch_[k].distance > 0;
+  };
+  parallel_for(world.owned(), [&](std::size_t i) {
+    contacts.for_each_wall_of(i, [&](std::uint32_t j, std::uint32_t k) {
+      bool counts = world.touch_element(j, p.position[i], wall_touch_[k]);
+      if (counts && world.walls[world.wall_of(j)].mesh)  // the same point of a mesh, found before: one contact
+        contacts.for_each_wall_of(i, [&](std::uint32_t j2, std::uint32_t k2) {
+          if (k2 < k && wall_counts_[k2] && world.wall_of(j2) == world.wall_of(j) && same_contact(wall_touch_[k2], wall_touch_[k]))
+            counts = false;
+        });
+      wall_counts_[k] = counts;
+    });
+    contacts.for_each_wall_of(i, [&](std::uint32_t j, std::uint32_t k) {
+      if (walls[k].touching || !touching_now(k) || !world.walls[world.wall_of(j)].mesh) return;
+      contacts.for_each_wall_of(i, [&](std::uint32_t j2, std::uint32_t k2) {
+        Contact& ended = walls[k2];
+        const std::uint32_t w = world.wall_of(j);
+        if (ended.touching && !touching_now(k2) && world.wall_of(j2) == w &&
+            world.walls[w].mesh->adjacent(j - world.wall_elements[w], j2 - world.wall_elements[w])) {
+          walls[k].history = ended.history;
+          ended.history = {}, ended.touching = false;  // given once
+        }
+      });
+    });
+  });
 }
 
 void ForceField::accumulate(World& world, double fluid_lead) {
@@ -285,7 +352,8 @@ double ForceField::wall_load(const World& world, std::size_t wall) const {
   ExactSum load;
   const auto& contacts = world.contacts.walls();
   for (std::size_t k = 0; k < contacts.size(); ++k)
-    if (contacts[k].touching && contacts[k].j == wall) load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
+    if (contacts[k].touching && world.wall_of(contacts[k].j) == wall)
+      load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
   return load.value();
 }
 
@@ -310,8 +378,9 @@ double steps_per_contact(const World& world, const LawTable& laws, const Contact
   const std::size_t a = c.i, b = c.j;
   const double m_eff = wall ? p.mass[a] : p.mass[a] * p.mass[b] / (p.mass[a] + p.mass[b]);
   const double r_eff = wall ? p.radius[a] : p.radius[a] * p.radius[b] / (p.radius[a] + p.radius[b]);
-  const double speed = norm(p.velocity[a] - (wall ? world.walls[b].surface_velocity_at(p.position[a]) : p.velocity[b]));
-  const int other = wall ? world.walls[b].material : p.material[b];
+  const Wall* w = wall ? &world.walls[world.wall_of(c.j)] : nullptr;
+  const double speed = norm(p.velocity[a] - (w ? (w->mesh ? w->velocity : w->surface_velocity_at(p.position[a])) : p.velocity[b]));
+  const int other = w ? w->material : p.material[b];
   return contact_time(laws.at(p.material[a], other).normal, m_eff, r_eff, speed) / world.dt;
 }
 
@@ -342,12 +411,16 @@ void ForceField::report_overlap(const World& world, bool block_steps) const {
   std::string_view hint;  // what a non-finite force of it means
   if (worst) {
     const std::size_t a = worst->i, b = worst->j;
-    const int mat_b = wall ? world.walls[b].material : p.material[b];
+    const std::uint32_t w = wall ? world.wall_of(worst->j) : 0;
+    const int mat_b = wall ? world.walls[w].material : p.material[b];
     const NormalModel& normal = model_->laws.at(p.material[a], mat_b).normal;
     model = label_of(normal);
     hint = when_not_finite(normal);
     msg << "contact between particle id " << p.id[a] << " and "
-        << (wall ? "wall " + std::to_string(b) : "particle id " + std::to_string(p.id[b])) << " (normal model " << model
+        << (wall ? "wall " + std::to_string(w) +
+                       (world.walls[w].mesh ? " (triangle " + std::to_string(worst->j - world.wall_elements[w]) + ")" : "")
+                 : "particle id " + std::to_string(p.id[b]))
+        << " (normal model " << model
         << ") has overlap/diameter " << ratio;
   } else {
     msg << "a particle force is not finite";

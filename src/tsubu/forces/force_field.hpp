@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "tsubu/fluid/crowding.hpp"
 #include "tsubu/model/model.hpp"
 #include "tsubu/search/pair_search.hpp"
+#include "tsubu/search/triangle_grid.hpp"
 #include "tsubu/world/kinematics.hpp"
 #include "tsubu/world/world.hpp"
 
@@ -273,6 +275,12 @@ class ForceField {
   // the pairs are then evaluated in vector lanes), else null: each pair takes its own.
   const PairLaw* pair_law_ = nullptr;
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
+  // Meshes (World::wall_elements): per wall its triangles' grid, for a mesh (built at the
+  // first list build). Per wall contact, where its particle touches it at the last fixed-step
+  // evaluation, and whether the contact counts there (world/mesh.hpp).
+  std::vector<std::optional<TriangleGrid>> mesh_grids_;
+  std::vector<WallTouch> wall_touch_;
+  std::vector<char> wall_counts_;
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
@@ -292,6 +300,12 @@ class ForceField {
   // wall_reach: per wall, added to the margin (empty: none).
   void find_wall_contacts(const World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
                           std::vector<Pair>& out);
+  void grid_meshes(const World& world, const Particles& probe, double margin);
+  // Fixed steps with meshes, before the wall contacts are evaluated: where each touches
+  // (wall_touch_, wall_counts_), one of a particle's contacts at the same point of a mesh
+  // counted, and a contact that begins on a mesh taking the history of one of the same
+  // mesh that ends (a grain rolling from triangle to triangle keeps its spring).
+  void touch_walls(World& world);
   // The crowd list from the same probe (each ball's reach added to the probe radii).
   void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);
   // The one contact evaluation (forces/evaluate.hpp), on the number type of `State`: a fixed

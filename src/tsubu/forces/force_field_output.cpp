@@ -22,7 +22,10 @@ std::vector<ContactRecord> ForceField::touching_contacts(const World& world) con
   }
   for (std::size_t k = 0; k < walls.size() && k < wall_results_.entry.size(); ++k) {
     const Contact& c = walls[k];
-    if (c.touching) add(c, wall_results_.entry[k], true, world.walls[c.j].touch(p.position[c.i]).normal);
+    if (!c.touching) continue;
+    // With meshes, where it touched at the evaluation (touch_walls).
+    const Vec3 n = world.wall_elements.empty() ? world.walls[c.j].touch(p.position[c.i]).normal : wall_touch_[k].normal;
+    add(c, wall_results_.entry[k], true, n);
   }
   return out;
 }

@@ -19,9 +19,10 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
     n.id_i = p.id[c.i];
     n.centre_i = p.position[c.i];
     if (c.wall) {
-      n.wall = static_cast<int>(c.j);
-      const Wall& w = world.walls[c.j];
-      const WallTouch touch = w.touch(n.centre_i);
+      n.wall = static_cast<int>(world.wall_of(c.j));
+      n.element = c.j;
+      WallTouch touch;
+      world.touch_element(c.j, n.centre_i, touch);
       n.branch = -touch.distance * touch.normal;  // to the nearest point of the surface
     } else {
       n.id_j = p.id[c.j];
@@ -36,9 +37,9 @@ std::vector<NetworkContact> contact_network(const World& world, const std::vecto
     n.history = c.history;  // as the law saw it, from i
     out.push_back(n);
   }
-  // Pairs by (id_i, id_j), then walls by (id, wall): the same file whatever the numbering.
+  // Pairs by (id_i, id_j), then walls by (id, wall, triangle): the same file whatever the numbering.
   std::sort(out.begin(), out.end(), [](const NetworkContact& a, const NetworkContact& b) {
-    return std::tuple(a.wall >= 0, a.id_i, a.id_j, a.wall) < std::tuple(b.wall >= 0, b.id_i, b.id_j, b.wall);
+    return std::tuple(a.wall >= 0, a.id_i, a.id_j, a.element) < std::tuple(b.wall >= 0, b.id_i, b.id_j, b.element);
   });
   return out;
 }

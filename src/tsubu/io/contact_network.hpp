@@ -14,6 +14,7 @@ struct NetworkContact {
   std::int64_t id_i = 0;  // particle ids
   std::int64_t id_j = -1; // -1 for a wall contact
   int wall = -1;          // wall index, -1 for a pair
+  std::uint32_t element = 0;  // the wall element (World::wall_elements): a mesh's triangle
   Vec3 centre_i;          // m, particle i's centre
   Vec3 point;             // m, mid-overlap on the line of centres (pair) or on the plane (wall)
   Vec3 branch;            // m, from i's centre to j's (nearest periodic image) or to `point` (wall)

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "tsubu/io/checked_file.hpp"
+#include "tsubu/world/mesh.hpp"
 
 namespace tsubu {
 
@@ -162,7 +163,7 @@ std::pair<double, double> box_extent(const Domain& domain, const Vec3& from, con
 // A wall drawn as quadrilaterals over the box: a plane as one, the rectangle that covers
 // the box seen along its normal (with a hole: kSides around the hole, out beyond the box); a
 // cylinder as kSides facets around its axis, over the box's length along the axis; a cone as
-// kSides facets from one rim to the other. Appends
+// kSides facets from one rim to the other; a mesh as its triangles. Appends
 // their corners and each one's normal (towards the particles).
 void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, std::vector<Vec3>& normals) {
   constexpr int kSides = 48;
@@ -171,6 +172,14 @@ void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, 
     const double a = 2 * M_PI * k / kSides;
     return std::cos(a) * u + std::sin(a) * v;
   };
+  if (w.mesh) {  // each triangle as a quadrilateral with its last corner twice, where the mesh is now
+    for (std::size_t t = 0; t < w.mesh->size(); ++t) {
+      const auto& v = w.mesh->triangle(t);
+      for (int k : {0, 1, 2, 2}) points.push_back(w.mesh->vertices()[v[static_cast<std::size_t>(k)]] + w.point);
+      normals.push_back(w.mesh->normal(t));
+    }
+    return;
+  }
   if (w.shape == WallShape::plane && w.hole_radius > 0) {  // a ring from the hole's rim to beyond the box
     const Vec3 u = perpendicular(w.normal), v = cross(w.normal, u);
     const double reach = norm(domain.upper - domain.lower) + norm(w.point - 0.5 * (domain.lower + domain.upper));

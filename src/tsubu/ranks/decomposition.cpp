@@ -313,6 +313,7 @@ Decomposition::Gathered Decomposition::gathered(const World& world, const ForceF
   World& w = all.world;
   w.domain = world.domain;
   w.walls = world.walls;
+  w.wall_elements = world.wall_elements;
   w.dt = world.dt, w.time = world.time, w.step = world.step;
   w.source_ids = world.source_ids;
   const std::vector<std::string> parts = comm_.gather(mine.bytes());

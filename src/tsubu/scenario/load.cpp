@@ -12,6 +12,8 @@
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
 #include "tsubu/core/hash.hpp"
+#include "tsubu/io/mesh_file.hpp"
+#include "tsubu/world/mesh.hpp"
 #include "tsubu/scenario/law_keys.hpp"
 #include "tsubu/scenario/reader.hpp"
 #include "tsubu/scenario/result_names.hpp"
@@ -343,10 +345,104 @@ void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string&
   read_surface_motion(s, sc, w, w.axis, "the " + shape + "'s axis");
 }
 
-void read_wall(Section s, Scenario& sc) {
+// A wall's motion in stretches of constant velocity (a plane's, a mesh's).
+void read_motion(Section& s, Wall& w) {
+  double previous = 0;
+  for (Section m : s.tables("motion")) {
+    WallMotion stretch;
+    stretch.until = stretch_end(m, previous);
+    stretch.velocity = m.vec3("velocity");
+    m.finish();
+    w.motion.push_back(stretch);
+  }
+}
+
+// A file's bytes, for the scenario's hash (a resume refuses a mesh file that changed).
+std::string file_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A triangle mesh (shape = "mesh") from an STL or OBJ file (io/mesh_file.hpp), in `units`,
+// scaled, turned about an axis through the origin and moved by `translate`, in that order;
+// it may move with `motion` as a plane does. The fixed steps only, as the other walls that
+// are not whole planes.
+void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
+  w.shape = WallShape::mesh;
+  refuse_with_curved_walls(s, sc, "shape", "a mesh");
+  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "center",
+                          "surface_velocity", "angular_velocity", "surface_motion"})
+    if (s.has(key))
+      s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material "
+                  "and motion (its surface does not move on its own yet)");
+  const std::filesystem::path given = s.text("file");
+  const std::filesystem::path path = (given.is_absolute() ? given : folder / given).lexically_normal();
+  if (!std::filesystem::is_regular_file(path))
+    s.fail("file", "no such file \"" + path.string() + "\" (relative paths start at the scenario's folder)");
+  static constexpr std::array<std::pair<const char*, double>, 5> kUnits = {
+      {{"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"um", 1e-6}, {"in", 0.0254}}};
+  const std::string unit = s.choice("units", {"m", "cm", "mm", "um", "in"}, std::nullopt);
+  double factor = 1;
+  for (const auto& [name, metres] : kUnits)
+    if (unit == name) factor = metres;
+  factor *= s.positive("scale", 1.0);
+  const bool turned = s.has("rotation_axis") || s.has("rotation_degrees");
+  Vec3 axis{0, 0, 1};
+  double angle = 0;
+  if (turned) {
+    const Vec3 a = s.vec3("rotation_axis");
+    if (!std::isnormal(norm(a))) s.fail("rotation_axis", "must be a non-zero vector such as [0, 0, 1]; its length is " + num(norm(a)));
+    axis = a / norm(a);
+    angle = s.real("rotation_degrees") * M_PI / 180;
+  }
+  const Vec3 shift = s.vec3("translate", {});
+  MeshData data;
+  try {
+    data = read_mesh_file(path);
+  } catch (const MeshFileError& e) {
+    s.fail("file", e.what());
+  }
+  // Rodrigues' rotation of each scaled vertex, then the shift.
+  const double c = std::cos(angle), sn = std::sin(angle);
+  Vec3 lower{INFINITY, INFINITY, INFINITY}, upper{-INFINITY, -INFINITY, -INFINITY};
+  for (Vec3& v : data.vertices) {
+    const Vec3 a = factor * v;
+    v = (turned ? c * a + sn * cross(axis, a) + (1 - c) * dot(axis, a) * axis : a) + shift;
+    for (int k = 0; k < 3; ++k) lower[k] = std::min(lower[k], v[k]), upper[k] = std::max(upper[k], v[k]);
+  }
+  // A file in another unit than `units` says spans a box a hundred or a thousand times off.
+  const double box = norm(sc.domain.upper - sc.domain.lower), span = norm(upper - lower);
+  if (span > 20 * box)
+    s.fail("units", "the mesh spans " + num(span) + " m read in " + unit + ", " + num(span / box) + " times the domain's " +
+                        num(box) + " m: is the file in another unit (units = \"mm\" reads its numbers as millimetres)?");
+  bool meets = true;
+  for (int k = 0; k < 3; ++k) meets = meets && upper[k] >= sc.domain.lower[k] && lower[k] <= sc.domain.upper[k];
+  const auto text = [](const Vec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; };
+  if (!meets)
+    s.fail("file", "the mesh lies outside the domain (it spans " + text(lower) + " to " + text(upper) +
+                       " m): check units, scale, rotation and translate");
+  try {
+    w.mesh = std::make_shared<const TriangleMesh>(std::move(data.vertices), std::move(data.triangles));
+  } catch (const std::invalid_argument& e) {
+    s.fail("file", std::string("the mesh in ") + unit + ": " + e.what() + " (after scaling)");
+  }
+  read_motion(s, w);
+  sc.hash = fnv1a64(file_bytes(path), sc.hash);
+}
+
+void read_wall(Section s, Scenario& sc, const std::filesystem::path& folder) {
   Wall w;
   w.material = material_index(sc, s, "material");
-  if (const std::string shape = s.choice("shape", {"plane", "cylinder", "cone"}, std::string("plane")); shape != "plane") {
+  const std::string shape = s.choice("shape", {"plane", "cylinder", "cone", "mesh"}, std::string("plane"));
+  if (shape == "mesh") {
+    read_mesh_wall(s, sc, w, folder);
+    s.finish();
+    sc.walls.push_back(w);
+    return;
+  }
+  if (shape != "plane") {
     read_round_wall(s, sc, w, shape);
     s.finish();
     sc.walls.push_back(w);
@@ -363,14 +459,7 @@ void read_wall(Section s, Scenario& sc) {
     w.hole_radius = s.positive("hole_radius");
     refuse_with_curved_walls(s, sc, "hole_radius", "a plane with a hole");
   }
-  double previous = 0;
-  for (Section m : s.tables("motion")) {
-    WallMotion stretch;
-    stretch.until = stretch_end(m, previous);
-    stretch.velocity = m.vec3("velocity");
-    m.finish();
-    w.motion.push_back(stretch);
-  }
+  read_motion(s, w);
   read_surface_motion(s, sc, w, w.normal, "the wall's normal");
   s.finish();
   sc.walls.push_back(w);
@@ -968,7 +1057,7 @@ Scenario load_scenario_text(const std::string& text, const std::string& path, co
   if (sc.materials.empty()) top.fail("materials", "at least one [[materials]] entry is required");
   if (auto c = top.table("contact")) read_contact(*c, sc);
   if (auto f = top.table("fluid")) read_fluid(*f, sc);
-  for (Section w : top.tables("walls")) read_wall(w, sc);
+  for (Section w : top.tables("walls")) read_wall(w, sc, folder);
   for (Section p : top.tables("particles")) read_particles(p, sc, folder, particle_files);
   if (sc.sources.empty()) top.fail("particles", "at least one [[particles]] source is required");
   if (auto o = top.table("output")) read_output(*o, sc);

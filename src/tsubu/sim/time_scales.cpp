@@ -83,11 +83,11 @@ void impact_speed(const Scenario& sc, const World& w, TimeScales& ts) {
       stretches.back().surface_during(0.5 * m.until + 0.5 * (&m == wall.surface_motion.data() ? 0.0 : (&m - 1)->until));
     }
     double surface = 0;
-    for (const Wall& w : stretches)
+    for (const Wall& stretch : stretches)
       for (int corner = 0; corner < 8; ++corner) {
         const Vec3 x{(corner & 1 ? sc.domain.upper : sc.domain.lower).x, (corner & 2 ? sc.domain.upper : sc.domain.lower).y,
                      (corner & 4 ? sc.domain.upper : sc.domain.lower).z};
-        surface = std::max(surface, norm(w.surface_velocity_at(x) - w.velocity));
+        surface = std::max(surface, norm(stretch.surface_velocity_at(x) - stretch.velocity));
       }
     consider(surface + fastest, "a wall's moving surface");
   }

@@ -68,11 +68,13 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 // at its first force evaluation; `check` reports it here, as the run sees it (a wall pushes
 // only centres in front of its surface). So is one on the far side of a cylinder or of a
 // cone's face, which would never feel it (a plane may leave particles behind it: another part
-// of the box; so may a cone beyond its rims).
+// of the box; so may a cone beyond its rims). A mesh is left to the first evaluation, whose
+// report says the same of the initial state.
 void check_walls(const World& w, double overlap_limit, const std::vector<Grain>& grains) {
   const Particles& p = w.particles;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t k = 0; k < w.walls.size(); ++k) {
+      if (w.walls[k].mesh) continue;
       const double dist = w.walls[k].touch(p.position[i]).distance;
       if (const WallShape shape = w.walls[k].shape; shape != WallShape::plane && !(dist > 0))
         throw InputError(grains[i].where, "particle centre " + format_vec(p.position[i]) + " starts " +
@@ -170,6 +172,7 @@ World build_empty_world(const Scenario& sc) {
   World w;
   w.domain = sc.domain;
   w.walls = sc.walls;
+  w.index_wall_elements();
   for (Wall& wall : w.walls) wall.surface_during(0.5 * sc.dt);  // as the first step's evaluation sees it
   w.dt = sc.dt;
   return w;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -106,7 +107,9 @@ struct WallTouch {
   Vec3 normal;
 };
 
-enum class WallShape { plane, cylinder, cone };
+enum class WallShape { plane, cylinder, cone, mesh };
+
+class TriangleMesh;  // world/mesh.hpp
 
 // A plane: infinite; `normal` is a unit vector pointing into the particles' side. A wall with
 // a `motion` moves as a rigid plane: in each step with the velocity of the stretch that holds
@@ -128,6 +131,10 @@ enum class WallShape { plane, cylinder, cone };
 // `end_radius` about point + length axis; its ends are open. A grain touches the face, on the
 // particles' side (`inside`: the side of the axis), or either rim from any side (as a
 // plane's hole rim). Its surface may turn about its axis.
+//
+// A mesh: triangles (world/mesh.hpp), each a partner of its own contacts (World::wall_elements);
+// `point` is how far the mesh has moved from where the scenario put it, and it moves as a
+// plane does, with `motion`. touch() is not defined for it: World::touch_element is.
 struct Wall {
   Vec3 point;
   Vec3 normal;  // plane
@@ -147,6 +154,7 @@ struct Wall {
   double end_radius = 0;  // m, cone: at point + length axis
   double length = 0;      // m, cone: along the axis
   double hole_radius = 0;  // m, plane: a circular hole about `point` (0: none)
+  std::shared_ptr<const TriangleMesh> mesh;  // mesh
 
   // A plane's signed distance from x (positive on the particles' side).
   double distance(const Vec3& x) const { return dot(x - point, normal); }

@@ -76,6 +76,13 @@ class TriangleMesh {
   // it touches: the distance of x from the nearest point and the unit normal from there to x.
   bool touch(std::uint32_t t, const Vec3& x, WallTouch& out) const;
 
+  // Whether triangles a and b share a vertex.
+  bool adjacent(std::uint32_t a, std::uint32_t b) const {
+    for (std::uint32_t u : triangles_[a])
+      for (std::uint32_t v : triangles_[b])
+        if (u == v) return true;
+    return false;
+  }
   // The corners of triangle t's bounding box.
   Vec3 lower(std::size_t t) const;
   Vec3 upper(std::size_t t) const;

@@ -1,0 +1,60 @@
+#include "tsubu/search/triangle_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tsubu {
+
+TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) {
+  Vec3 upper = mesh.upper(0);
+  lower_ = mesh.lower(0);
+  for (std::size_t t = 1; t < mesh.size(); ++t)
+    for (int a = 0; a < 3; ++a) lower_[a] = std::min(lower_[a], mesh.lower(t)[a]), upper[a] = std::max(upper[a], mesh.upper(t)[a]);
+  cell_ = cell;
+  for (;;) {
+    long total = 1;
+    for (int a = 0; a < 3; ++a) cells_[a] = std::max(1L, static_cast<long>(std::ceil((upper[a] - lower_[a]) / cell_))), total *= cells_[a];
+    if (total <= kMaxCells) break;
+    cell_ *= 2;
+  }
+  // Two passes over the triangles' boxes: count per cell, then fill.
+  auto each_cell = [&](std::size_t t, auto&& f) {
+    long first[3], last[3];
+    for (int a = 0; a < 3; ++a) span(a, mesh.lower(t)[a], mesh.upper(t)[a], first[a], last[a]);
+    for (long k = first[2]; k <= last[2]; ++k)
+      for (long j = first[1]; j <= last[1]; ++j)
+        for (long i = first[0]; i <= last[0]; ++i) f(index(i, j, k));
+  };
+  start_.assign(static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]) + 1, 0);
+  for (std::size_t t = 0; t < mesh.size(); ++t) each_cell(t, [&](long c) { ++start_[static_cast<std::size_t>(c) + 1]; });
+  for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+  members_.resize(start_.back());
+  std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+  for (std::size_t t = 0; t < mesh.size(); ++t)
+    each_cell(t, [&](long c) { members_[fill[static_cast<std::size_t>(c)]++] = static_cast<std::uint32_t>(t); });
+}
+
+bool TriangleGrid::span(int a, double low, double high, long& first, long& last) const {
+  const double from = std::floor((low - lower_[a]) / cell_), to = std::floor((high - lower_[a]) / cell_);
+  if (!(to >= 0) || !(from < static_cast<double>(cells_[a]))) return false;  // misses the grid (or NaN)
+  first = std::max(0L, static_cast<long>(from));
+  last = std::min(cells_[a] - 1, static_cast<long>(to));
+  return true;
+}
+
+void TriangleGrid::near(const Vec3& x, double reach, std::vector<std::uint32_t>& out) const {
+  long first[3], last[3];
+  for (int a = 0; a < 3; ++a)
+    if (!span(a, x[a] - reach, x[a] + reach, first[a], last[a])) return;
+  const std::size_t begin = out.size();
+  for (long k = first[2]; k <= last[2]; ++k)
+    for (long j = first[1]; j <= last[1]; ++j)
+      for (long i = first[0]; i <= last[0]; ++i) {
+        const auto c = static_cast<std::size_t>(index(i, j, k));
+        out.insert(out.end(), members_.begin() + start_[c], members_.begin() + start_[c + 1]);
+      }
+  std::sort(out.begin() + static_cast<long>(begin), out.end());
+  out.erase(std::unique(out.begin() + static_cast<long>(begin), out.end()), out.end());
+}
+
+}  // namespace tsubu

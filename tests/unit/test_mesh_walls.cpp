@@ -1,0 +1,177 @@
+// Mesh walls in runs (docs/scenario.md, [[walls]] shape = "mesh"): a ball rebounds off a flat
+// mesh of many triangles, at a face, an edge or a vertex and at any angle, with the velocity
+// and spin it has off the plane; it rolls across the mesh's shared edges with the plane's
+// force at every step (its tangential spring carried from triangle to triangle); a grazing
+// impact on a ridge or a corner gains no energy.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "tsubu/sim/simulation.hpp"
+#include "world_builder.hpp"
+
+namespace tsubu {
+namespace {
+
+constexpr double kR = 0.003;  // m, the ball's radius
+
+// A square plate in z = 0 of n x n cells of side h about the origin, each cut into two
+// triangles along alternating diagonals: vertices shared by 4 or 8 triangles.
+std::shared_ptr<const TriangleMesh> plate(int n, double h) {
+  std::vector<Vec3> v;
+  std::vector<std::array<std::uint32_t, 3>> t;
+  const double half = 0.5 * n * h;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) v.push_back({i * h - half, j * h - half, 0});
+  auto at = [&](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      if ((i + j) % 2 == 0) {
+        t.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        t.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      } else {
+        t.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+        t.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  return std::make_shared<const TriangleMesh>(v, t);
+}
+
+Wall mesh_wall(std::shared_ptr<const TriangleMesh> mesh) {
+  Wall w;
+  w.shape = WallShape::mesh;
+  w.mesh = std::move(mesh);
+  return w;
+}
+
+Wall floor_plane() {
+  Wall w;
+  w.normal = {0, 0, 1};
+  return w;
+}
+
+// A ball of glass from x with velocity v and spin w against `wall`, under the law; the
+// simulation, started.
+std::unique_ptr<Simulation> ball(const Wall& wall, const ContactSpec& law, const Vec3& x, const Vec3& v, const Vec3& w,
+                                 const Vec3& gravity = {}) {
+  auto [world, model] = testing::make_world({"glass", 2500, 1e8, 0.3}, law, 1e-6, gravity);
+  world.walls.push_back(wall);
+  world.particles.add(0, 0, 2 * kR, 2500, x, v);
+  world.particles.omega[0] = w;
+  auto sim = std::make_unique<Simulation>(std::move(world), std::move(model), Integrator::velocity_verlet, BlockStepRules{});
+  sim->start();
+  return sim;
+}
+
+TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
+  const double h = 0.002;  // triangles smaller than the ball: it touches several at once
+  const auto mesh = plate(20, h);
+  const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
+  int cases = 0;
+  // Over a face, the middle of an edge, a diagonal and a vertex (of 4 and of 8 triangles).
+  for (const auto& [a, b] : {std::pair{0.3, 0.2}, {0.5, 0.0}, {0.5, 0.5}, {0.0, 0.0}, {1.0, 0.0}})
+    for (double degrees : {0.0, 30.0, 60.0, 80.0}) {
+      const double angle = degrees * M_PI / 180;
+      const Vec3 v{0.4 * std::sin(angle), 0.1 * std::sin(angle), -0.4 * std::cos(angle) - 0.05};
+      // Placed so that it reaches the impact point at the first touch.
+      const double fall = 1e-4;
+      const Vec3 hit{a * h, b * h, kR};
+      const Vec3 x = hit - (fall / -v.z) * v;
+      const Vec3 spin{5, -3, 2};
+      auto on_mesh = ball(mesh_wall(mesh), law, x, v, spin), on_plane = ball(floor_plane(), law, x, v, spin);
+      for (int step = 500; step <= 3000; step += 500) {
+        on_mesh->advance_to(step), on_plane->advance_to(step);
+        const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+        ASSERT_LT(norm(p.position[0] - q.position[0]), 1e-15) << a << ", " << b << ", " << degrees << " degrees, step " << step;
+        ASSERT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-12) << a << ", " << b << ", " << degrees << " degrees";
+        ASSERT_LT(norm(p.omega[0] - q.omega[0]), 1e-9) << a << ", " << b << ", " << degrees << " degrees";
+      }
+      const Particles& q = on_plane->world().particles;
+      EXPECT_GT(q.velocity[0].z, 0) << "it rebounded";
+      ++cases;
+    }
+  EXPECT_EQ(cases, 20);
+}
+
+// A ball rolling under gravity across a mesh of small triangles crosses dozens of shared
+// edges and vertices; at every step its force and torque are the plane's to round-off: its
+// tangential spring goes from triangle to triangle with it.
+TEST(MeshWall, ABallRollsAcrossSharedEdgesWithThePlanesForceAtEveryStep) {
+  const double h = 0.002;
+  const auto mesh = plate(40, h);
+  const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
+  const Vec3 g{0, 0, -9.81};
+  // Resting on the surface (sunk by its weight), sent off at 0.3 m/s along a skew line.
+  const Vec3 x{-0.03, -0.021, kR - 2e-6}, v{0.3, 0.2, 0};
+  auto on_mesh = ball(mesh_wall(mesh), law, x, v, {}, g), on_plane = ball(floor_plane(), law, x, v, {}, g);
+  double worst_force = 0, largest = 0;
+  for (int step = 1; step <= 100000; ++step) {  // 0.1 s, about 30 mm: over 20 cells
+    on_mesh->advance_to(step), on_plane->advance_to(step);
+    const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+    worst_force = std::max(worst_force, norm(p.force[0] - q.force[0]));
+    largest = std::max(largest, norm(q.force[0]));
+    ASSERT_EQ(p.contact_count[0], q.contact_count[0]) << "step " << step;
+  }
+  const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+  std::printf("rolled %.4g m; largest force %.3g N, largest difference from the plane %.3g N; position %.3g m apart\n",
+              norm(q.position[0] - x), largest, worst_force, norm(p.position[0] - q.position[0]));
+  EXPECT_GT(norm(q.position[0] - x), 0.02);
+  EXPECT_LT(worst_force, 1e-9 * largest);
+  EXPECT_LT(norm(p.position[0] - q.position[0]), 1e-12);
+  EXPECT_LT(norm(p.omega[0] - q.omega[0]), 1e-8);
+}
+
+// A roof of two faces sloping down at 20 degrees from a ridge along y, and a pyramid's apex:
+// convex edges and a convex corner.
+std::shared_ptr<const TriangleMesh> roof() {
+  const double s = -std::tan(20 * M_PI / 180) * 0.01;
+  return std::make_shared<const TriangleMesh>(
+      std::vector<Vec3>{{0, -0.01, 0}, {0, 0.01, 0}, {0.01, -0.01, s}, {0.01, 0.01, s}, {-0.01, -0.01, s}, {-0.01, 0.01, s}},
+      std::vector<std::array<std::uint32_t, 3>>{{{0, 2, 3}}, {{0, 3, 1}}, {{0, 1, 5}}, {{0, 5, 4}}});
+}
+std::shared_ptr<const TriangleMesh> pyramid() {
+  const double s = -std::tan(20 * M_PI / 180) * 0.01;
+  return std::make_shared<const TriangleMesh>(
+      std::vector<Vec3>{{0, 0, 0}, {0.01, -0.01, s}, {0.01, 0.01, s}, {-0.01, 0.01, s}, {-0.01, -0.01, s}},
+      std::vector<std::array<std::uint32_t, 3>>{{{0, 1, 2}}, {{0, 2, 3}}, {{0, 3, 4}}, {{0, 4, 1}}});
+}
+
+// Elastic (restitution 1) and frictionless, a ball grazing over a ridge or an apex, across
+// the faces' and the edge's regions, leaves with the energy it came with: no energy gained
+// where the contact passes from face to edge to face.
+TEST(MeshWall, AGrazingImpactOnARidgeOrACornerGainsNoEnergy) {
+  const ContactSpec law = testing::spec_of("hertz_tsuji", "none", 1.0);
+  struct Pass {
+    const char* name;
+    std::shared_ptr<const TriangleMesh> mesh;
+    double y, height;  // m, across the ridge's line; above the top, 6 mm before it
+  };
+  for (const Pass& pass : {Pass{"ridge", roof(), 0.0003, 0.00015}, Pass{"ridge", roof(), -0.004, 0.0002},
+                           Pass{"ridge", roof(), 0.002, 0.00023}, Pass{"apex", pyramid(), 0, 0.0002},
+                           Pass{"apex", pyramid(), 3e-5, 0.0002}, Pass{"apex", pyramid(), -1e-4, 0.00022},
+                           Pass{"apex", pyramid(), 5e-5, 0.00015}}) {
+      // Across the ridge (along x), slightly downwards: at the top about 40 um deep.
+      const Vec3 x{-0.006, pass.y, kR + pass.height}, v{0.5, 0.002, -0.02};
+      const char* name = pass.name;
+      const double offset = pass.y;
+      auto sim = ball(mesh_wall(pass.mesh), law, x, v, {});
+      const double before = 0.5 * norm2(v);
+      bool touched = false;
+      for (int step = 1; step <= 24000; ++step) {
+        sim->advance_to(step);
+        touched = touched || sim->world().particles.contact_count[0] > 0;
+      }
+      const Particles& p = sim->world().particles;
+      ASSERT_EQ(p.contact_count[0], 0) << name << " " << offset << ": still touching";
+      const double after = 0.5 * norm2(p.velocity[0]);
+      std::printf("%s, offset %g mm: touched %d, energy after / before - 1 = %.3g\n", name, offset * 1e3, touched,
+                  after / before - 1);
+      EXPECT_TRUE(touched) << name << " " << offset;
+      EXPECT_LT(after / before - 1, 1e-7) << name << " " << offset;
+      EXPECT_GT(after / before - 1, -1e-5) << name << " " << offset;  // elastic: nothing lost either, to the step's error
+    }
+}
+
+}  // namespace
+}  // namespace tsubu
