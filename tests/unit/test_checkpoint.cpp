@@ -509,6 +509,34 @@ TEST(Resume, DuringAnInsertionFromAnEarlierCheckpointTheRunEndsBitIdentical) {
   EXPECT_EQ(results(ref), results(cut));
 }
 
+// Beads settling in a triangle-mesh hopper (tests/scenarios/mesh_hopper.toml), the run ended
+// at t = 0.16 s, its newest checkpoint lost, resumed from t = 0.12 s: the contacts with the
+// mesh's triangles keep their springs, and every output ends as the uninterrupted run's.
+TEST(Resume, WithMeshContactsTheRunEndsBitIdentical) {
+  TempDir dir;
+  const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
+  auto args = [&](const fs::path& out, const char* duration) {
+    return std::vector<std::string>{"run", (kScenarios / "mesh_hopper.toml").string(), "--out", out.string(), "--set",
+                                    "output.checkpoint_every_steps=4000", std::string("--set"),
+                                    std::string("simulation.duration=") + duration};
+  };
+  ASSERT_EQ(run(args(ref, "0.2"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  ASSERT_EQ(run(args(cut, "0.16"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
+  auto checkpoints = list_checkpoints(cut / "checkpoint");
+  while (checkpoints.size() > 1 && read_checkpoint(checkpoints.back()).time > 0.12 + 1e-9) {
+    fs::remove(checkpoints.back());
+    checkpoints.pop_back();
+  }
+  const Checkpoint c = read_checkpoint(checkpoints.back());
+  std::size_t with_spring = 0;
+  for (const Contact& k : c.wall_contacts) with_spring += k.touching && !(k.history.xi == Vec3{});
+  std::printf("checkpoint at t = %g s: %zu wall contacts with a spring\n", c.time, with_spring);
+  EXPECT_GT(with_spring, 50u);
+  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=0.2"}, dir.path() / "resume.log"), 0)
+      << slurp(dir.path() / "resume.log");
+  expect_same_outputs(ref, cut, true);
+}
+
 // A belt that stops (tests/scenarios/belt_stops.toml, surface_motion in stretches): a run
 // ended at 0.045 s, after the belt stopped at 0.03 s, resumes to 0.06 s as the uninterrupted
 // run: the surface's motion is that of the stretch holding the last step, not the first.

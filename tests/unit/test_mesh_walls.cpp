@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "scenario_run.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "world_builder.hpp"
 
@@ -171,6 +172,18 @@ TEST(MeshWall, AGrazingImpactOnARidgeOrACornerGainsNoEnergy) {
       EXPECT_LT(after / before - 1, 1e-7) << name << " " << offset;
       EXPECT_GT(after / before - 1, -1e-5) << name << " " << offset;  // elastic: nothing lost either, to the step's error
     }
+}
+
+// Beads poured into the square hopper's mesh (tests/scenarios/mesh_hopper.toml), settling on
+// its faces: 1 and 2 threads, the same bits.
+TEST(MeshWall, TheMeshHopperGivesTheSameBitsForOneAndTwoThreads) {
+  const Scenario sc = testing::test_scenario("mesh_hopper.toml", {"search.sort_every=100"});
+  const World one = testing::run_scenario(sc, 1), two = testing::run_scenario(sc, 2);
+  std::size_t mesh_contacts = 0;
+  for (const Contact& c : one.contacts.walls()) mesh_contacts += c.touching && c.j < one.wall_elements[1];
+  std::printf("%zu touching contacts with the mesh at the end\n", mesh_contacts);
+  EXPECT_GT(mesh_contacts, 100u);
+  EXPECT_TRUE(testing::same_particle_bits(one, two));
 }
 
 }  // namespace

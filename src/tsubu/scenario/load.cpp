@@ -415,8 +415,8 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
   // A file in another unit than `units` says spans a box a hundred or a thousand times off.
   const double box = norm(sc.domain.upper - sc.domain.lower), span = norm(upper - lower);
   if (span > 20 * box)
-    s.fail("units", "the mesh spans " + num(span) + " m read in " + unit + ", " + num(span / box) + " times the domain's " +
-                        num(box) + " m: is the file in another unit (units = \"mm\" reads its numbers as millimetres)?");
+    s.fail("units", "the mesh spans " + num(span) + " m read in " + unit + ", " + std::to_string(std::lround(span / box)) +
+                        " times the domain's " + num(box) + " m: is the file in another unit (units = \"mm\" reads its numbers as millimetres)?");
   bool meets = true;
   for (int k = 0; k < 3; ++k) meets = meets && upper[k] >= sc.domain.lower[k] && lower[k] <= sc.domain.upper[k];
   const auto text = [](const Vec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; };

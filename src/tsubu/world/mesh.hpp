@@ -1,5 +1,5 @@
 // Triangle-mesh walls: the geometry of a mesh and the contact of a ball with it
-// (docs/walls.md, "Triangle meshes").
+// (docs/scenario.md, "Mesh walls").
 //
 // A ball touches a triangle where the triangle's nearest point to its centre is: inside the
 // face, on an edge or at a vertex. The triangles of a mesh share their edges and vertices,
