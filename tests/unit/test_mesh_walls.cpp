@@ -186,5 +186,61 @@ TEST(MeshWall, TheMeshHopperGivesTheSameBitsForOneAndTwoThreads) {
   EXPECT_TRUE(testing::same_particle_bits(one, two));
 }
 
+// A ball resting on a flat mesh that turns about its normal, and on a plane whose surface
+// turns so (a turntable): the same path, to round-off (the mesh's geometry turns, the plane's
+// does not, but a flat surface turning in itself is the same surface).
+TEST(MeshWall, AFlatMeshTurningInItsPlaneIsATurntable) {
+  const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
+  const Vec3 g{0, 0, -9.81}, x{0.02, 0.005, kR - 2e-6}, omega{0, 0, 3};
+  Wall disk = mesh_wall(plate(20, 0.004)), turntable = floor_plane();
+  disk.angular_velocity = turntable.angular_velocity = omega;
+  auto on_mesh = ball(disk, law, x, {}, {}, g), on_plane = ball(turntable, law, x, {}, {}, g);
+  on_mesh->advance_to(100000), on_plane->advance_to(100000);  // 0.1 s: the ball is dragged round
+  const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+  std::printf("moved %.4g m at %.4g m/s; mesh - plane: %.3g m, %.3g m/s\n", norm(q.position[0] - x), norm(q.velocity[0]),
+              norm(p.position[0] - q.position[0]), norm(p.velocity[0] - q.velocity[0]));
+  EXPECT_GT(norm(q.velocity[0]), 0.01);
+  EXPECT_LT(norm(p.position[0] - q.position[0]), 1e-12);
+  EXPECT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-10);
+}
+
+// A paddle (a vertical plate of triangles from the axis outwards) turning at omega about z
+// hits a ball at rest at a distance rho from the axis: elastic and frictionless, the ball
+// leaves with twice the paddle's speed where it hits, omega sqrt(rho^2 - r^2), across the paddle.
+TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
+  std::vector<Vec3> v;
+  std::vector<std::array<std::uint32_t, 3>> t;
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 4; ++i) v.push_back({0.002 + 0.01 * i, 0, -0.01 + 0.01 * j});
+  for (std::uint32_t j = 0; j < 2; ++j)
+    for (std::uint32_t i = 0; i < 4; ++i) {
+      const std::uint32_t a = j * 5 + i;
+      t.push_back({a, a + 1, a + 6}), t.push_back({a, a + 6, a + 5});
+    }
+  Wall paddle = mesh_wall(std::make_shared<const TriangleMesh>(v, t));
+  paddle.angular_velocity = {0, 0, 2};
+  const double rho = 0.03;
+  const Vec3 x{rho * std::cos(0.3), rho * std::sin(0.3), 0};
+  auto sim = ball(paddle, testing::spec_of("hertz_tsuji", "none", 1.0), x, {}, {});
+  sim->advance_to(300000);  // 0.3 s: the paddle turns 0.6 rad, past the ball
+  const Particles& p = sim->world().particles;
+  const double expected = 2 * 2 * std::sqrt(rho * rho - kR * kR);
+  std::printf("speed %.6g m/s, expected %.6g m/s\n", norm(p.velocity[0]), expected);
+  EXPECT_NEAR(norm(p.velocity[0]), expected, 0.01 * expected);
+  EXPECT_EQ(p.contact_count[0], 0);
+}
+
+// The mixer (tests/scenarios/mesh_mixer.toml): a paddle turning through a bed; 1 and 2
+// threads, the same bits.
+TEST(MeshWall, TheMixerGivesTheSameBitsForOneAndTwoThreads) {
+  const Scenario sc = testing::test_scenario("mesh_mixer.toml", {"search.sort_every=100"});
+  const World one = testing::run_scenario(sc, 1), two = testing::run_scenario(sc, 2);
+  std::size_t paddle = 0;
+  for (const Contact& c : one.contacts.walls()) paddle += c.touching && one.wall_of(c.j) == 1;
+  std::printf("%zu grains touching the paddle at the end\n", paddle);
+  EXPECT_GT(paddle, 3u);
+  EXPECT_TRUE(testing::same_particle_bits(one, two));
+}
+
 }  // namespace
 }  // namespace tsubu

@@ -455,6 +455,7 @@ World world_of_checkpoint(const Scenario& sc, Checkpoint& c, const std::filesyst
   for (std::size_t k = 0; k < world.walls.size(); ++k) {
     world.walls[k].point = c.wall_points[k], world.walls[k].velocity = c.wall_velocities[k];  // moving walls
     if (c.step > 0) world.walls[k].surface_during(c.time - 0.5 * world.dt);  // as the last step set it
+    world.walls[k].turn_to(c.time);  // a turning mesh
   }
   return world;
 }

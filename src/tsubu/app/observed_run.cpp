@@ -26,8 +26,6 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
   }
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (sc.domain.any_open()) refuse("domain.open");
-  for (std::size_t k = 0; k < sc.walls.size(); ++k)
-    if (sc.walls[k].mesh) refuse("walls[" + std::to_string(k) + "].shape = \"mesh\"");
   // Its grains enter alike on every process, but the series' elastic energy of a split
   // insertion has differed at a row from one process's (docs/parallel.md): refused until then.
   if (const ParticleSource* src = inflow_source(sc); src && src->kind == ParticleSource::Kind::insertion)

@@ -83,9 +83,11 @@ void RunFiles::series_row(const Simulation& sim, const Energies& e, const Contac
   const World& world = sim.world();
   series_ << world.time << ',' << e.kinetic_translational << ',' << e.kinetic_rotational << ',' << e.potential_gravity
           << ',' << c.elastic_energy << ',' << c.contacts << ',' << c.max_overlap_ratio;
-  for (std::size_t k : moving_walls_)
-    series_ << ',' << dot(world.walls[k].point - sc_.walls[k].point, world.walls[k].normal) << ','
-            << sim.forces().wall_load(world, k);
+  for (std::size_t k : moving_walls_) {  // a plane: along its normal; a mesh: the distance it has moved
+    const Wall& w = world.walls[k];
+    const Vec3 moved = w.point - sc_.walls[k].point;
+    series_ << ',' << (w.mesh ? norm(moved) : dot(moved, w.normal)) << ',' << sim.forces().wall_load(world, k);
+  }
   if (sim.block())  // particles per level (step dt/2^k)
     for (std::size_t n : sim.block()->level_histogram()) series_ << ',' << n;
   if (sim.inflow()) series_ << ',' << world.particles.size() << ',' << sim.inflow_mass_entered();

@@ -92,8 +92,15 @@ bool ForceField::needs_rebuild(const World& world) const {
   });
   if (std::find(moved.begin(), moved.end(), 1) != moved.end()) return true;
   if (walls_built_at_.size() != world.walls.size()) return true;
-  for (std::size_t w = 0; w < world.walls.size(); ++w)
-    if (norm2(world.walls[w].point - walls_built_at_[w]) > limit2) return true;  // moving walls
+  for (std::size_t w = 0; w < world.walls.size(); ++w) {
+    const Wall& wall = world.walls[w];
+    double shift = norm(wall.point - walls_built_at_[w]);  // moving walls
+    if (wall.mesh && !(wall.angular_velocity == Vec3{})) {  // a turning mesh: its farthest point's arc since
+      const auto [c, s] = walls_turn_at_[w];
+      shift += mesh_reach_[w] * std::abs(std::atan2(wall.turn_sin * c - wall.turn_cos * s, wall.turn_cos * c + wall.turn_sin * s));
+    }
+    if (shift * shift > limit2) return true;
+  }
   return false;
 }
 
@@ -112,7 +119,8 @@ void ForceField::rebuild(World& world) {
   build_lists(world, p, skin_, {}, false);
   built_at_ = p.position;
   walls_built_at_.clear();
-  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
+  walls_turn_at_.clear();
+  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point), walls_turn_at_.emplace_back(w.turn_cos, w.turn_sin);
 }
 
 void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach,
@@ -184,6 +192,7 @@ void ForceField::build_crowd_list(World& world, const Particles& probe, double m
 void ForceField::grid_meshes(const World& world, const Particles& probe, double margin) {
   if (mesh_grids_.size() == world.walls.size()) return;
   mesh_grids_.assign(world.walls.size(), std::nullopt);
+  mesh_reach_.assign(world.walls.size(), 0.0);
   // Cells about as wide as a particle's reach or a triangle, whichever is larger: a query
   // visits a few cells, and a triangle lies in a few.
   double widest = 0;
@@ -197,6 +206,12 @@ void ForceField::grid_meshes(const World& world, const Particles& probe, double 
       size += std::max({extent.x, extent.y, extent.z});
     }
     mesh_grids_[w].emplace(*mesh, std::max(widest, size / static_cast<double>(mesh->size())));
+    const Wall& wall = world.walls[w];  // a turning mesh's farthest vertex from its axis
+    const double spin = norm(wall.angular_velocity);
+    for (const Vec3& v : mesh->vertices()) {
+      const Vec3 off = v - wall.axis_offset;
+      mesh_reach_[w] = std::max(mesh_reach_[w], spin > 0 ? norm(off - dot(off, wall.angular_velocity / spin) * wall.angular_velocity / spin) : 0.0);
+    }
   }
 }
 
@@ -214,7 +229,7 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
         const double reach = wall_reach.empty() ? 0.0 : wall_reach[w];
         const auto particle = static_cast<std::uint32_t>(i);
         if (wall.mesh) {  // the triangles within the margin of touching, from either side
-          const Vec3 x = probe.position[i] - wall.point;
+          const Vec3 x = wall.to_mesh(probe.position[i]);
           const double within = probe.radius[i] + margin + reach;
           near.clear();
           mesh_grids_[w]->near(x, within, near);
@@ -351,9 +366,11 @@ ContactTotals ForceField::totals(const World& world) const {
 double ForceField::wall_load(const World& world, std::size_t wall) const {
   ExactSum load;
   const auto& contacts = world.contacts.walls();
+  const Wall& w = world.walls[wall];
+  // A mesh has no one normal: its load is along the way it moves now (none while still).
+  const Vec3 along = !w.mesh ? w.normal : (w.velocity == Vec3{} ? Vec3{} : w.velocity / norm(w.velocity));
   for (std::size_t k = 0; k < contacts.size(); ++k)
-    if (contacts[k].touching && world.wall_of(contacts[k].j) == wall)
-      load += dot(wall_results_.entry[k].force_i, world.walls[wall].normal);
+    if (contacts[k].touching && world.wall_of(contacts[k].j) == wall) load += dot(wall_results_.entry[k].force_i, along);
   return load.value();
 }
 
@@ -379,7 +396,7 @@ double steps_per_contact(const World& world, const LawTable& laws, const Contact
   const double m_eff = wall ? p.mass[a] : p.mass[a] * p.mass[b] / (p.mass[a] + p.mass[b]);
   const double r_eff = wall ? p.radius[a] : p.radius[a] * p.radius[b] / (p.radius[a] + p.radius[b]);
   const Wall* w = wall ? &world.walls[world.wall_of(c.j)] : nullptr;
-  const double speed = norm(p.velocity[a] - (w ? (w->mesh ? w->velocity : w->surface_velocity_at(p.position[a])) : p.velocity[b]));
+  const double speed = norm(p.velocity[a] - (w ? w->surface_velocity_at(p.position[a]) : p.velocity[b]));
   const int other = w ? w->material : p.material[b];
   return contact_time(laws.at(p.material[a], other).normal, m_eff, r_eff, speed) / world.dt;
 }

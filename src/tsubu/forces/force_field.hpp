@@ -203,7 +203,7 @@ class ForceField {
   // of the stored force, so the two add up to it exactly.
   std::vector<ContactRecord> touching_contacts(const World& world) const;
   // Force the particles exert on wall `wall` along minus its normal (positive when pushed),
-  // N, from the last evaluation.
+  // N, from the last evaluation; on a mesh, against its motion now (positive when they resist it).
   double wall_load(const World& world, std::size_t wall) const;
   // The result of the last evaluation of entry k of world.contacts' pair or wall list.
   const ContactResult& pair_result(std::size_t k) const { return pair_results_.entry[k]; }
@@ -279,6 +279,8 @@ class ForceField {
   // first list build). Per wall contact, where its particle touches it at the last fixed-step
   // evaluation, and whether the contact counts there (world/mesh.hpp).
   std::vector<std::optional<TriangleGrid>> mesh_grids_;
+  std::vector<double> mesh_reach_;  // m, per wall: a turning mesh's farthest vertex from its axis
+  std::vector<std::pair<double, double>> walls_turn_at_;  // per wall: a turning mesh's (cos, sin) at the last build
   std::vector<WallTouch> wall_touch_;
   std::vector<char> wall_counts_;
   double skin_ = 0;

@@ -23,9 +23,9 @@ std::vector<ContactRecord> ForceField::touching_contacts(const World& world) con
   for (std::size_t k = 0; k < walls.size() && k < wall_results_.entry.size(); ++k) {
     const Contact& c = walls[k];
     if (!c.touching) continue;
-    // With meshes, where it touched at the evaluation (touch_walls).
-    const Vec3 n = world.wall_elements.empty() ? world.walls[c.j].touch(p.position[c.i]).normal : wall_touch_[k].normal;
-    add(c, wall_results_.entry[k], true, n);
+    WallTouch touch;  // where it touched at the evaluation (a touching mesh contact counts there)
+    world.touch_element(c.j, p.position[c.i], touch);
+    add(c, wall_results_.entry[k], true, touch.normal);
   }
   return out;
 }

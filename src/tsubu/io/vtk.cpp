@@ -175,8 +175,9 @@ void wall_quads(const Wall& w, const Domain& domain, std::vector<Vec3>& points, 
   if (w.mesh) {  // each triangle as a quadrilateral with its last corner twice, where the mesh is now
     for (std::size_t t = 0; t < w.mesh->size(); ++t) {
       const auto& v = w.mesh->triangle(t);
-      for (int k : {0, 1, 2, 2}) points.push_back(w.mesh->vertices()[v[static_cast<std::size_t>(k)]] + w.point);
-      normals.push_back(w.mesh->normal(t));
+      for (int k : {0, 1, 2, 2})  // from the mesh's frame (Wall::to_mesh) into the box's
+        points.push_back(w.from_mesh(w.mesh->vertices()[v[static_cast<std::size_t>(k)]] - w.axis_offset) + w.axis_offset + w.point);
+      normals.push_back(w.from_mesh(w.mesh->normal(t)));
     }
     return;
   }

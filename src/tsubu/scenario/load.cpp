@@ -372,11 +372,11 @@ std::string file_bytes(const std::filesystem::path& path) {
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
   refuse_with_curved_walls(s, sc, "shape", "a mesh");
-  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "center",
-                          "surface_velocity", "angular_velocity", "surface_motion"})
+  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius",
+                          "surface_velocity", "surface_motion"})
     if (s.has(key))
-      s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material "
-                  "and motion (its surface does not move on its own yet)");
+      s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "
+                  "motion, and angular_velocity with center (it turns as a rigid body; its surface does not move on its own)");
   const std::filesystem::path given = s.text("file");
   const std::filesystem::path path = (given.is_absolute() ? given : folder / given).lexically_normal();
   if (!std::filesystem::is_regular_file(path))
@@ -429,6 +429,11 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
     s.fail("file", std::string("the mesh in ") + unit + ": " + e.what() + " (after scaling)");
   }
   read_motion(s, w);
+  // Turning as a rigid body about the axis through `center` (a mixer's blade).
+  w.angular_velocity = s.vec3("angular_velocity", {});
+  if (s.has("center") && w.angular_velocity == Vec3{})
+    s.fail("center", "is the axis of the mesh's rotation: give angular_velocity too, or leave center out");
+  w.axis_offset = s.vec3("center", {});
   sc.hash = fnv1a64(file_bytes(path), sc.hash);
 }
 

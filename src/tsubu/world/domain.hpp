@@ -134,7 +134,11 @@ class TriangleMesh;  // world/mesh.hpp
 //
 // A mesh: triangles (world/mesh.hpp), each a partner of its own contacts (World::wall_elements);
 // `point` is how far the mesh has moved from where the scenario put it, and it moves as a
-// plane does, with `motion`. touch() is not defined for it: World::touch_element is.
+// plane does, with `motion`. It may turn besides, as a rigid body, at `angular_velocity` about
+// the axis through point + axis_offset (a mixer's blade): by the angle |omega| t at the time t
+// of the evaluation, known in closed form (turn_to). Its triangles are kept as read; a
+// position is taken into the mesh's frame to find where it touches (to_mesh), and the
+// normal found back out (from_mesh). touch() is not defined for it: World::touch_element is.
 struct Wall {
   Vec3 point;
   Vec3 normal;  // plane
@@ -155,6 +159,7 @@ struct Wall {
   double length = 0;      // m, cone: along the axis
   double hole_radius = 0;  // m, plane: a circular hole about `point` (0: none)
   std::shared_ptr<const TriangleMesh> mesh;  // mesh
+  double turn_cos = 1, turn_sin = 0;         // mesh: of the angle it has turned by
 
   // A plane's signed distance from x (positive on the particles' side).
   double distance(const Vec3& x) const { return dot(x - point, normal); }
@@ -204,6 +209,28 @@ struct Wall {
     return inside ? towards_axis : -towards_axis;
   }
 
+  // A turning mesh's rotation of v by the angle it has turned (sign -1: back).
+  Vec3 turned(const Vec3& v, double sign) const {
+    const double w = norm(angular_velocity);
+    if (!(w > 0)) return v;
+    const Vec3 k = angular_velocity / w;
+    const double s = sign * turn_sin;
+    return turn_cos * v + s * cross(k, v) + (1 - turn_cos) * dot(k, v) * k;
+  }
+  // A position in a mesh's own frame (where its triangles were read and placed), and a
+  // direction found there back in the box's.
+  Vec3 to_mesh(const Vec3& x) const {
+    const Vec3 axis_point = point + axis_offset;
+    return turned(x - axis_point, -1) + axis_offset;
+  }
+  Vec3 from_mesh(const Vec3& direction) const { return turned(direction, 1); }
+  // A turning mesh's angle at the time t (the closed form of its constant rotation).
+  void turn_to(double t) {
+    if (!mesh) return;
+    const double angle = norm(angular_velocity) * t;
+    turn_cos = std::cos(angle), turn_sin = std::sin(angle);
+  }
+
   bool surface_moves() const {
     return !surface_motion.empty() || !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{});
   }
@@ -212,11 +239,13 @@ struct Wall {
   // which is used; on a hole's rim, a cylinder and a cone the nearest point is.
   Vec3 surface_velocity_at(const Vec3& x, const WallTouch& t) const {
     if (!surface_moves()) return velocity;
+    if (mesh) return velocity + cross(angular_velocity, x - t.distance * t.normal - (point + axis_offset));
     const bool face = shape == WallShape::plane && t.normal == normal;
     const Vec3 at = face ? x : x - t.distance * t.normal;
     return velocity + surface_velocity + cross(angular_velocity, at - (point + axis_offset));
   }
-  Vec3 surface_velocity_at(const Vec3& x) const { return surface_velocity_at(x, touch(x)); }
+  // (A mesh: of its surface's motion at x itself, the fastest a surface through x can move.)
+  Vec3 surface_velocity_at(const Vec3& x) const { return surface_velocity_at(x, mesh ? WallTouch{} : touch(x)); }
 
   Vec3 velocity_at(double t) const {
     for (const WallMotion& m : motion)
@@ -240,6 +269,7 @@ struct Wall {
   // Moves the plane over the step [t, t + dt], and sets its surface's motion for it.
   void advance(double t, double dt) {
     surface_during(t + 0.5 * dt);
+    turn_to(t + dt);  // a turning mesh, where the evaluation at the step's end sees it
     if (motion.empty()) return;
     velocity = velocity_at(t + 0.5 * dt);
     point += velocity * dt;

@@ -54,7 +54,9 @@ struct World {
       out = wall.touch(x);
       return true;
     }
-    return wall.mesh->touch(j - wall_elements[w], x - wall.point, out);
+    if (!wall.mesh->touch(j - wall_elements[w], wall.to_mesh(x), out)) return false;
+    out.normal = wall.from_mesh(out.normal);
+    return true;
   }
 };
 
