@@ -537,11 +537,13 @@ void resume_bit_identical(const char* scenario) {
 }
 
 // Beads settling in a triangle-mesh hopper (tests/scenarios/mesh_hopper.toml) and a bed stirred
-// by a turning paddle (mesh_mixer.toml), each ended at t = 0.16 s and resumed from 0.12 s: the
-// contacts with the meshes' triangles keep their springs, a turning mesh stands where its
-// closed form puts it, and every output ends as the uninterrupted run's.
+// by a turning paddle (mesh_mixer.toml; mesh_mixer_reverses.toml turns it back from 0.1 s and
+// stops it at 0.15 s), each ended at t = 0.16 s and resumed from 0.12 s: the contacts with the
+// meshes' triangles keep their springs, a turning mesh stands where its closed form puts it,
+// and every output ends as the uninterrupted run's.
 TEST(Resume, WithMeshContactsTheRunEndsBitIdentical) {
-  for (const char* scenario : {"mesh_hopper.toml", "mesh_mixer.toml"}) resume_bit_identical(scenario);
+  for (const char* scenario : {"mesh_hopper.toml", "mesh_mixer.toml", "mesh_mixer_reverses.toml"})
+    resume_bit_identical(scenario);
 }
 
 // A belt that stops (tests/scenarios/belt_stops.toml, surface_motion in stretches): a run

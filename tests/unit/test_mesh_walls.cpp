@@ -193,7 +193,7 @@ TEST(MeshWall, AFlatMeshTurningInItsPlaneIsATurntable) {
   const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
   const Vec3 g{0, 0, -9.81}, x{0.02, 0.005, kR - 2e-6}, omega{0, 0, 3};
   Wall disk = mesh_wall(plate(20, 0.004)), turntable = floor_plane();
-  disk.angular_velocity = turntable.angular_velocity = omega;
+  disk.turn_at(omega), turntable.angular_velocity = omega;
   auto on_mesh = ball(disk, law, x, {}, {}, g), on_plane = ball(turntable, law, x, {}, {}, g);
   on_mesh->advance_to(100000), on_plane->advance_to(100000);  // 0.1 s: the ball is dragged round
   const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
@@ -202,6 +202,35 @@ TEST(MeshWall, AFlatMeshTurningInItsPlaneIsATurntable) {
   EXPECT_GT(norm(q.velocity[0]), 0.01);
   EXPECT_LT(norm(p.position[0] - q.position[0]), 1e-12);
   EXPECT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-10);
+}
+
+// The same in stretches of time (surface_motion): the turntable turns one way, then back,
+// then stops. The mesh's angle is the integral of the stretches' rates (Wall::turn_to): at
+// the end 3 * 0.04 - 3 * 0.03 = 0.03 rad. The ball follows the plane's path to round-off,
+// through both reversals and the stop.
+TEST(MeshWall, AFlatMeshTurningInStretchesIsATurntableInStretches) {
+  const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
+  const Vec3 g{0, 0, -9.81}, x{0.02, 0.005, kR - 2e-6};
+  const std::vector<SurfaceMotion> stretches{{0.04, {}, {0, 0, 3}}, {0.07, {}, {0, 0, -3}}};
+  Wall disk = mesh_wall(plate(20, 0.004)), turntable = floor_plane();
+  disk.turn_axis = {0, 0, 1};
+  disk.surface_motion = turntable.surface_motion = stretches;
+  for (Wall* w : {&disk, &turntable}) w->surface_during(0.5e-6);  // as the first step sees it
+  auto on_mesh = ball(disk, law, x, {}, {}, g), on_plane = ball(turntable, law, x, {}, {}, g);
+  double largest = 0;  // m, between the two paths
+  for (int k = 1; k <= 10; ++k) {
+    on_mesh->advance_to(10000 * k), on_plane->advance_to(10000 * k);
+    largest = std::max(largest, norm(on_mesh->world().particles.position[0] - on_plane->world().particles.position[0]));
+  }
+  const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+  std::printf("moved %.4g m, at %.4g m/s at the end; mesh - plane: largest %.3g m, %.3g m/s at the end\n",
+              norm(q.position[0] - x), norm(q.velocity[0]), largest, norm(p.velocity[0] - q.velocity[0]));
+  EXPECT_GT(norm(q.position[0] - x), 1e-4);
+  EXPECT_LT(largest, 1e-12);
+  EXPECT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-10);
+  const Wall& turned = on_mesh->world().walls[0];
+  EXPECT_NEAR(std::atan2(turned.turn_sin, turned.turn_cos), 0.03, 1e-14);
+  EXPECT_EQ(turned.angular_velocity, Vec3{});  // stopped after the last stretch
 }
 
 // A paddle (a vertical plate of triangles from the axis outwards) turning at omega about z
@@ -218,7 +247,7 @@ TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
       t.push_back({a, a + 1, a + 6}), t.push_back({a, a + 6, a + 5});
     }
   Wall paddle = mesh_wall(std::make_shared<const TriangleMesh>(v, t));
-  paddle.angular_velocity = {0, 0, 2};
+  paddle.turn_at({0, 0, 2});
   const double rho = 0.03;
   const Vec3 x{rho * std::cos(0.3), rho * std::sin(0.3), 0};
   auto sim = ball(paddle, testing::spec_of("hertz_tsuji", "none", 1.0), x, {}, {});

@@ -95,7 +95,7 @@ bool ForceField::needs_rebuild(const World& world) const {
   for (std::size_t w = 0; w < world.walls.size(); ++w) {
     const Wall& wall = world.walls[w];
     double shift = norm(wall.point - walls_built_at_[w]);  // moving walls
-    if (wall.mesh && !(wall.angular_velocity == Vec3{})) {  // a turning mesh: its farthest point's arc since
+    if (wall.mesh && !(wall.turn_axis == Vec3{})) {  // a turning mesh: its farthest point's arc since
       const auto [c, s] = walls_turn_at_[w];
       shift += mesh_reach_[w] * std::abs(std::atan2(wall.turn_sin * c - wall.turn_cos * s, wall.turn_cos * c + wall.turn_sin * s));
     }
@@ -207,10 +207,10 @@ void ForceField::grid_meshes(const World& world, const Particles& probe, double 
     }
     mesh_grids_[w].emplace(*mesh, std::max(widest, size / static_cast<double>(mesh->size())));
     const Wall& wall = world.walls[w];  // a turning mesh's farthest vertex from its axis
-    const double spin = norm(wall.angular_velocity);
+    const Vec3& k = wall.turn_axis;
     for (const Vec3& v : mesh->vertices()) {
       const Vec3 off = v - wall.axis_offset;
-      mesh_reach_[w] = std::max(mesh_reach_[w], spin > 0 ? norm(off - dot(off, wall.angular_velocity / spin) * wall.angular_velocity / spin) : 0.0);
+      mesh_reach_[w] = std::max(mesh_reach_[w], k == Vec3{} ? 0.0 : norm(off - dot(off, k) * k));
     }
   }
 }

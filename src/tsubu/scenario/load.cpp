@@ -259,11 +259,11 @@ Vec3 velocity_in_plane(Section& s, const Vec3& n) {
 
 // A rotation about the unit vector `about` (`angular_velocity` of s), which moves no geometry;
 // components across it are refused unless they are rounding.
-Vec3 rotation_about(Section& s, const Vec3& about, const std::string& what) {
+Vec3 rotation_about(Section& s, const Vec3& about, const std::string& what,
+                    const std::string& why = "the rotation moves no geometry") {
   const Vec3 omega = s.vec3("angular_velocity", {});
   if (const double off = norm(cross(omega, about)); off > kRounding * norm(omega))
-    s.fail("angular_velocity", "must be along " + what + " (the rotation moves no geometry); its component across it is " +
-                                   num(off) + " rad/s");
+    s.fail("angular_velocity", "must be along " + what + " (" + why + "); its component across it is " + num(off) + " rad/s");
   return dot(omega, about) * about;
 }
 
@@ -365,6 +365,42 @@ std::string file_bytes(const std::filesystem::path& path) {
   return bytes.str();
 }
 
+// A mesh's turning as a rigid body about the axis through `center` (a mixer's blade, a drum
+// with lifters): a constant angular_velocity, or surface_motion stretches of angular_velocity
+// (each with `until`), all about the axis of the first that turns (turn_axis), which the
+// turned angle is measured about (Wall::turn_to).
+Vec3 turning_rate(Section& s) {
+  const Vec3 omega = s.vec3("angular_velocity", {});
+  if (!(omega == Vec3{}) && !std::isnormal(norm(omega)))
+    s.fail("angular_velocity", "must be zero or of ordinary size (its length " + num(norm(omega)) + " rad/s has no direction)");
+  return omega;
+}
+
+void read_mesh_turning(Section& s, Wall& w) {
+  if (s.has("surface_motion")) {
+    if (s.has("angular_velocity"))
+      s.fail("angular_velocity", "give the mesh's turning either as a constant angular_velocity or as surface_motion stretches, not both");
+    double previous = 0;
+    for (Section m : s.tables("surface_motion")) {
+      SurfaceMotion stretch;
+      stretch.until = stretch_end(m, previous);
+      if (w.turn_axis == Vec3{}) {
+        stretch.angular_velocity = turning_rate(m);
+        w.turn_at(stretch.angular_velocity);  // its axis; the stretch sets the rate (Wall::surface_during)
+      } else {
+        stretch.angular_velocity = rotation_about(m, w.turn_axis, "the axis of the mesh's first turning stretch",
+                                                "a mesh's stretches turn it about one axis");
+      }
+      m.finish();
+      w.surface_motion.push_back(stretch);
+    }
+  } else {
+    w.turn_at(turning_rate(s));
+  }
+  if (s.has("center") && w.turn_axis == Vec3{})
+    s.fail("center", "is the axis of the mesh's rotation: give angular_velocity too, or leave center out");
+}
+
 // A triangle mesh (shape = "mesh") from an STL or OBJ file (io/mesh_file.hpp), in `units`,
 // scaled, turned about an axis through the origin and moved by `translate`, in that order;
 // it may move with `motion` as a plane does. The fixed steps only, as the other walls that
@@ -372,11 +408,11 @@ std::string file_bytes(const std::filesystem::path& path) {
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
   refuse_with_curved_walls(s, sc, "shape", "a mesh");
-  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius",
-                          "surface_velocity", "surface_motion"})
+  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "surface_velocity"})
     if (s.has(key))
       s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "
-                  "motion, and angular_velocity with center (it turns as a rigid body; its surface does not move on its own)");
+                  "motion, and angular_velocity or surface_motion with center (it turns as a rigid body; its surface does "
+                  "not move on its own)");
   const std::filesystem::path given = s.text("file");
   const std::filesystem::path path = (given.is_absolute() ? given : folder / given).lexically_normal();
   if (!std::filesystem::is_regular_file(path))
@@ -429,10 +465,7 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
     s.fail("file", std::string("the mesh in ") + unit + ": " + e.what() + " (after scaling)");
   }
   read_motion(s, w);
-  // Turning as a rigid body about the axis through `center` (a mixer's blade).
-  w.angular_velocity = s.vec3("angular_velocity", {});
-  if (s.has("center") && w.angular_velocity == Vec3{})
-    s.fail("center", "is the axis of the mesh's rotation: give angular_velocity too, or leave center out");
+  read_mesh_turning(s, w);
   w.axis_offset = s.vec3("center", {});
   sc.hash = fnv1a64(file_bytes(path), sc.hash);
 }

@@ -135,8 +135,10 @@ class TriangleMesh;  // world/mesh.hpp
 // A mesh: triangles (world/mesh.hpp), each a partner of its own contacts (World::wall_elements);
 // `point` is how far the mesh has moved from where the scenario put it, and it moves as a
 // plane does, with `motion`. It may turn besides, as a rigid body, at `angular_velocity` about
-// the axis through point + axis_offset (a mixer's blade): by the angle |omega| t at the time t
-// of the evaluation, known in closed form (turn_to). Its triangles are kept as read; a
+// the axis through point + axis_offset (a mixer's blade), constant or in `surface_motion`
+// stretches about one axis, `turn_axis` (a drum spun up, a blade that stops or turns back): by
+// the angle at the time t of the evaluation, known in closed form (turn_to; the integral of
+// the stretches' angular velocities). Its triangles are kept as read; a
 // position is taken into the mesh's frame to find where it touches (to_mesh), and the
 // normal found back out (from_mesh). touch() is not defined for it: World::touch_element is.
 struct Wall {
@@ -159,6 +161,7 @@ struct Wall {
   double length = 0;      // m, cone: along the axis
   double hole_radius = 0;  // m, plane: a circular hole about `point` (0: none)
   std::shared_ptr<const TriangleMesh> mesh;  // mesh
+  Vec3 turn_axis;                            // mesh: the unit axis it turns about (zero: it does not turn)
   double turn_cos = 1, turn_sin = 0;         // mesh: of the angle it has turned by
 
   // A plane's signed distance from x (positive on the particles' side).
@@ -209,11 +212,15 @@ struct Wall {
     return inside ? towards_axis : -towards_axis;
   }
 
+  // A mesh turning at the constant angular velocity omega (zero: not at all).
+  void turn_at(const Vec3& omega) {
+    angular_velocity = omega;
+    turn_axis = omega == Vec3{} ? Vec3{} : omega / norm(omega);
+  }
   // A turning mesh's rotation of v by the angle it has turned (sign -1: back).
   Vec3 turned(const Vec3& v, double sign) const {
-    const double w = norm(angular_velocity);
-    if (!(w > 0)) return v;
-    const Vec3 k = angular_velocity / w;
+    if (turn_axis == Vec3{}) return v;
+    const Vec3& k = turn_axis;
     const double s = sign * turn_sin;
     return turn_cos * v + s * cross(k, v) + (1 - turn_cos) * dot(k, v) * k;
   }
@@ -224,10 +231,22 @@ struct Wall {
     return turned(x - axis_point, -1) + axis_offset;
   }
   Vec3 from_mesh(const Vec3& direction) const { return turned(direction, 1); }
-  // A turning mesh's angle at the time t (the closed form of its constant rotation).
+  // A turning mesh's angle at the time t, about turn_axis: |omega| t for a constant rotation;
+  // in stretches, the sum of each one's angular velocity times its time up to t (none after
+  // the last).
   void turn_to(double t) {
     if (!mesh) return;
-    const double angle = norm(angular_velocity) * t;
+    double angle = 0;
+    if (surface_motion.empty()) {
+      angle = norm(angular_velocity) * t;
+    } else {
+      double start = 0;
+      for (const SurfaceMotion& m : surface_motion) {
+        if (!(t > start)) break;
+        angle += dot(m.angular_velocity, turn_axis) * (std::min(t, m.until) - start);
+        start = m.until;
+      }
+    }
     turn_cos = std::cos(angle), turn_sin = std::sin(angle);
   }
 
