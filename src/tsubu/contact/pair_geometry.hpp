@@ -55,10 +55,11 @@ BasicContactGeometry<T> pair_geometry(double ri, double rj, double mi, double mj
   return g;
 }
 
-// Particle (radius r, mass m) touching a plane with unit normal n at distance `dist` of its
-// centre; v_rel is the particle's velocity relative to the plane's.
+// Particle (radius r, mass m) touching a wall with unit normal n at distance `dist` of its
+// centre (on Dual with their rates); v_rel is the particle's velocity relative to the wall's
+// surface.
 template <class T>
-[[gnu::always_inline]] inline BasicContactGeometry<T> wall_geometry(double r, double m, const Vec3& n, const T& dist,
+[[gnu::always_inline]] inline BasicContactGeometry<T> wall_geometry(double r, double m, const Vector<T>& n, const T& dist,
                                                                     const Vector<T>& v_rel_centre, const Vector<T>& w) {
   BasicContactGeometry<T> g;
   g.n = n;

@@ -64,14 +64,34 @@ T with_rate(double x, double rate) {
   else return Dual(x, rate);
 }
 
+// Where the particle `a` touches `wall` (t, found on double) on the number type: on Dual with
+// the rates of the distance and the normal. A whole plane's normal stands still and its
+// distance changes at the particle's velocity along it relative to the surface's (v_rel); a
+// curved wall's (a cylinder, a cone, a hole's rim) is the touch on Dual of the centre moving
+// relative to the wall (Wall::touch_on).
+template <class T, class Motion>
+BasicWallTouch<T> touch_with_rates(const Wall& wall, const Motion& a, const WallTouch& t, const Vector<T>& v_rel) {
+  if constexpr (std::is_same_v<T, double>) return t;
+  else if (wall.whole_plane()) return {Dual(t.distance, dot(value(v_rel), t.normal)), t.normal};
+  else return wall.touch_on<Dual>(DualVec3(a.x, value(a.v) - wall.velocity));
+}
+
 // The velocity of a wall's surface under the particle `a` (Wall::surface_velocity_at, t its
 // touch); on Dual with its rate: the wall's own velocity is constant within a step, a turning
-// plane's changes as the particle moves over it (the angular velocity times the particle's
-// velocity). Block steps take planes only (the scenario refuses other shapes).
+// surface's changes as the point under the particle moves: on a whole plane with the
+// particle's velocity, on a curved wall with the rate of the nearest point, x - distance
+// normal (`moving`: the touch with its rates).
 template <class T, class Motion>
 Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t) {
-  if constexpr (std::is_same_v<T, double>) return wall.surface_velocity_at(a.x, t);
-  else return DualVec3(wall.surface_velocity_at(a.x, t), wall.surface_moves() ? cross(wall.angular_velocity, value(a.v)) : Vec3{});
+  if constexpr (std::is_same_v<T, double>) {
+    return wall.surface_velocity_at(a.x, t);
+  } else {
+    const Vec3 u = wall.surface_velocity_at(a.x, t);
+    if (!wall.surface_moves()) return DualVec3(u, {});
+    if (wall.whole_plane()) return DualVec3(u, cross(wall.angular_velocity, value(a.v)));
+    const BasicWallTouch<Dual> moving = wall.touch_on<Dual>(DualVec3(a.x, value(a.v) - wall.velocity));
+    return DualVec3(u, cross(wall.angular_velocity, rate(DualVec3(a.x, value(a.v)) - moving.distance * moving.normal)));
+  }
 }
 
 // The law's models, called on the number type T: every law on double; on Dual only the laws
@@ -355,8 +375,8 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
     if (rolls_) wall_results_.rolling_i[k] = {};
     return;
   }
-  BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], n, with_rate<T>(dist, dot(value(v_rel), n)),
-                                               v_rel, a.w);
+  const BasicWallTouch<T> moving = touch_with_rates<T>(wall, a, touch, v_rel);
+  BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], moving.normal, moving.distance, v_rel, a.w);
   g.dt = state.step(i);
   if (rolls_) g.rolling_inertia = rolling_inertia(p, i);
   const auto f = evaluate_law(normal, tangential, rolling, g, c.history);

@@ -302,12 +302,8 @@ void read_surface_motion(Section& s, const Scenario& sc, Wall& w, const Vec3& ab
 }
 
 // A wall that is not a whole plane (`what`, named by `key`), whose contact normal turns under
-// a grain: the fixed steps only (the block steps' rates would need the normal's rate), and
-// no hindered settling (the room it leaves a grain is measured for whole planes).
+// a grain: no hindered settling (the room it leaves a grain is measured for whole planes).
 void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, const std::string& what) {
-  if (sc.integrator == Integrator::block_hermite)
-    s.fail(key, what + " needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
-                       "\"symplectic_euler\"); block steps take whole planes only yet");
   if (sc.fluid.hindered)
     s.fail(key, "hindered settling measures the room a whole plane leaves a grain; " + what +
                     " is not available with fluid.hindered_settling = true yet");
@@ -403,11 +399,14 @@ void read_mesh_turning(Section& s, Wall& w) {
 
 // A triangle mesh (shape = "mesh") from an STL or OBJ file (io/mesh_file.hpp), in `units`,
 // scaled, turned about an axis through the origin and moved by `translate`, in that order;
-// it may move with `motion` as a plane does. The fixed steps only, as the other walls that
-// are not whole planes.
+// it may move with `motion` as a plane does. The fixed steps only: the evaluation's touch
+// pre-pass (ForceField::touch_walls) is theirs.
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
   refuse_with_curved_walls(s, sc, "shape", "a mesh");
+  if (sc.integrator == Integrator::block_hermite)  // the step's touch pre-pass and the hand-over are the fixed steps'
+    s.fail("shape", "a mesh needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
+                    "\"symplectic_euler\"); block steps take planes, cylinders and cones only yet");
   for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "surface_velocity"})
     if (s.has(key))
       s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "

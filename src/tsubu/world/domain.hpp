@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tsubu/core/dual.hpp"
 #include "tsubu/core/vec3.hpp"
 
 namespace tsubu {
@@ -102,10 +103,15 @@ inline Vec3 perpendicular(const Vec3& a) {
 // Where a particle's centre stands against a wall: its distance from the surface along the
 // surface's normal at the nearest point (positive on the particles' side), and that unit
 // normal, pointing towards the particles.
-struct WallTouch {
-  double distance = 0;  // m
-  Vec3 normal;
+// Where a particle's centre is from a wall: the distance from the wall's nearest point and the
+// unit normal from there towards the centre; on Dual (core/dual.hpp) with their rates, from
+// the centre's position and velocity relative to the wall.
+template <class T>
+struct BasicWallTouch {
+  T distance = 0;  // m
+  Vector<T> normal;
 };
+using WallTouch = BasicWallTouch<double>;
 
 enum class WallShape { plane, cylinder, cone, mesh };
 
@@ -167,48 +173,56 @@ struct Wall {
   // A plane's signed distance from x (positive on the particles' side).
   double distance(const Vec3& x) const { return dot(x - point, normal); }
 
-  WallTouch touch(const Vec3& x) const {
+  WallTouch touch(const Vec3& x) const { return touch_on<double>(x); }
+  // The same on the number type T: on Dual, x carries the centre's velocity relative to the
+  // wall's motion, and the touch the rates of the distance and the normal (exact: the same
+  // expressions differentiated; the branches chosen by value).
+  template <class T>
+  BasicWallTouch<T> touch_on(const Vector<T>& x) const {
+    using V = Vector<T>;
     if (shape == WallShape::plane) {
-      const double d = distance(x);
+      const T d = dot(x - point, normal);
       if (hole_radius > 0) {
-        const Vec3 along = (x - point) - d * normal;  // in the plane, from the hole's centre
-        const double rho = norm(along);
+        const V along = (x - point) - d * normal;  // in the plane, from the hole's centre
+        const T rho = norm(along);
         if (rho < hole_radius) {  // over the hole: the nearest point of the plate is on the rim
-          const Vec3 out = rho > 0 ? along / rho : perpendicular(normal);
-          const Vec3 from_rim = (x - point) - hole_radius * out;
-          const double dist = norm(from_rim);
-          return {dist, dist > 0 ? from_rim / dist : normal};
+          const V out = rho > 0 ? along / rho : V(perpendicular(normal));
+          const V from_rim = (x - point) - hole_radius * out;
+          const T dist = norm(from_rim);
+          return {dist, dist > 0 ? from_rim / dist : V(normal)};
         }
       }
       return {d, normal};
     }
-    const Vec3 rel = x - point;
-    const double s = dot(rel, axis);  // along the axis
-    const Vec3 off = rel - s * axis;  // from the axis
-    const double rho = norm(off);
-    const Vec3 out = rho > 0 ? off / rho : perpendicular(axis);  // on the axis itself: any direction
-    if (shape == WallShape::cylinder) return inside ? WallTouch{radius - rho, -out} : WallTouch{rho - radius, out};
-    return cone_touch(rel, s, rho, out);
+    const V rel = x - point;
+    const T s = dot(rel, axis);  // along the axis
+    const V off = rel - s * axis;  // from the axis
+    const T rho = norm(off);
+    const V out = rho > 0 ? off / rho : V(perpendicular(axis));  // on the axis itself: any direction
+    if (shape == WallShape::cylinder) return inside ? BasicWallTouch<T>{radius - rho, -out} : BasicWallTouch<T>{rho - radius, out};
+    return cone_touch<T>(rel, s, rho, out);
   }
   // The cone's nearest point in the half-plane (s, rho) through the axis and x, where the
   // surface is the segment from (0, radius) to (length, end_radius): on the face, the signed
   // distance along the face's normal; beyond either end, the distance from that end's rim.
-  WallTouch cone_touch(const Vec3& rel, double s, double rho, const Vec3& out) const {
+  template <class T>
+  BasicWallTouch<T> cone_touch(const Vector<T>& rel, const T& s, const T& rho, const Vector<T>& out) const {
     const double rise = end_radius - radius, slant = std::hypot(length, rise);
-    const double t = (s * length + (rho - radius) * rise) / (slant * slant);  // along the segment, 0 to 1
+    const T t = (s * length + (rho - radius) * rise) / (slant * slant);  // along the segment, 0 to 1
     if (t > 0 && t < 1) {
       const double across = rise / slant, towards_axis = -length / slant;  // the face's normal towards the axis
-      return {(inside ? 1 : -1) * (s * across + (rho - radius) * towards_axis), cone_normal(out)};
+      return {(inside ? 1 : -1) * (s * across + (rho - radius) * towards_axis), cone_normal<T>(out)};
     }
-    const Vec3 from_rim = t <= 0 ? rel - radius * out : rel - length * axis - end_radius * out;
-    const double dist = norm(from_rim);
+    const Vector<T> from_rim = t <= 0 ? rel - radius * out : rel - length * axis - end_radius * out;
+    const T dist = norm(from_rim);
     return {dist, dist > 0 ? from_rim / dist : (inside ? -out : out)};
   }
 
   // The normal of a cone's face, towards the particles, where `out` points from the axis.
-  Vec3 cone_normal(const Vec3& out) const {
+  template <class T = double>
+  Vector<T> cone_normal(const Vector<T>& out) const {
     const double rise = end_radius - radius, slant = std::hypot(length, rise);
-    const Vec3 towards_axis = (rise / slant) * axis - (length / slant) * out;
+    const Vector<T> towards_axis = (rise / slant) * axis - (length / slant) * out;
     return inside ? towards_axis : -towards_axis;
   }
 
@@ -249,6 +263,9 @@ struct Wall {
     }
     turn_cos = std::cos(angle), turn_sin = std::sin(angle);
   }
+
+  // A plane without a hole: its normal is the same wherever a particle touches it.
+  bool whole_plane() const { return shape == WallShape::plane && !(hole_radius > 0); }
 
   bool surface_moves() const {
     return !surface_motion.empty() || !(surface_velocity == Vec3{}) || !(angular_velocity == Vec3{});

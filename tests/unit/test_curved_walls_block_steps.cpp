@@ -1,0 +1,180 @@
+// Block steps with walls that are not whole planes (cylinders, cones, a plane's hole): the
+// touch on Dual numbers (Wall::touch_on) has the value of the touch on double, to the bit,
+// and the exact rates of the distance and the normal (against central differences along the
+// centre's path), and a turning drum's surface velocity the rate of the point under the
+// grain; a frictionless bead swings inside a cylinder as the pendulum it is, and a ball slides
+// off a hole's rim where cos theta = 2/3, with block steps as with velocity Verlet; a ball
+// rolling in a turning drum follows velocity Verlet's path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "tsubu/forces/evaluate.hpp"
+#include "tsubu/sim/simulation.hpp"
+#include "world_builder.hpp"
+
+namespace tsubu {
+namespace {
+
+Wall cylinder(double radius, bool inside) {
+  Wall w;
+  w.shape = WallShape::cylinder;
+  w.point = {0, 0, 0};
+  w.axis = {0, 1, 0};
+  w.radius = radius;
+  w.inside = inside;
+  return w;
+}
+
+Wall cone(bool inside) {  // a hopper at 45 degrees, from r = 0.01 m at z = 0 to 0.05 m at z = 0.04 m
+  Wall w;
+  w.shape = WallShape::cone;
+  w.axis = {0, 0, 1};
+  w.radius = 0.01;
+  w.end_radius = 0.05;
+  w.length = 0.04;
+  w.inside = inside;
+  return w;
+}
+
+Wall plate_with_hole() {
+  Wall w;
+  w.normal = {0, 0, 1};
+  w.hole_radius = 0.01;
+  return w;
+}
+
+// The touch on Dual of a centre at x moving at v: its value is the touch on double, bit for
+// bit; its rates are the central differences of the touch along the path (to h^2: 1e-7 of the
+// rate with h = 1e-6 s over the walls' centimetres).
+void expect_exact_rates(const Wall& wall, const Vec3& x, const Vec3& v, const char* what) {
+  const BasicWallTouch<Dual> t = wall.touch_on<Dual>(DualVec3(x, v));
+  const WallTouch at = wall.touch(x);
+  EXPECT_EQ(value(t.distance), at.distance) << what;
+  EXPECT_EQ(value(t.normal), at.normal) << what;
+  const double h = 1e-6;
+  const WallTouch ahead = wall.touch(x + h * v), behind = wall.touch(x - h * v);
+  const double distance_rate = (ahead.distance - behind.distance) / (2 * h);
+  const Vec3 normal_rate = (ahead.normal - behind.normal) / (2 * h);
+  std::printf("%s: distance rate %.9g (difference %.9g), normal rate |%.6g| (difference off by %.3g)\n", what, t.distance.d,
+              distance_rate, norm(rate(t.normal)), norm(rate(t.normal) - normal_rate));
+  EXPECT_NEAR(t.distance.d, distance_rate, 1e-7 * norm(v)) << what;
+  EXPECT_GT(norm(rate(t.normal)), 1.0) << what;  // the normal does turn along these paths
+  EXPECT_LT(norm(rate(t.normal) - normal_rate), 1e-6 * norm(rate(t.normal))) << what;
+}
+
+TEST(CurvedWallRates, TheTouchOnDualHasTheExactRatesOfTheDistanceAndTheNormal) {
+  const Vec3 v{0.3, -0.2, 0.5};
+  expect_exact_rates(cylinder(0.1, true), {0.03, 7.0, -0.04}, v, "inside a cylinder");
+  expect_exact_rates(cylinder(0.1, false), {0.09, 0.2, -0.08}, v, "outside a cylinder");
+  expect_exact_rates(cone(true), {0.02, 0.01, 0.02}, v, "inside a cone, over its face");
+  expect_exact_rates(cone(false), {0.03, 0.02, 0.01}, v, "outside a cone, over its face");
+  expect_exact_rates(cone(true), {0.004, 0.003, -0.004}, v, "below a cone's outlet rim");
+  expect_exact_rates(cone(true), {0.045, 0.01, 0.046}, v, "above a cone's top rim");
+  expect_exact_rates(plate_with_hole(), {0.007, 0.001, 0.004}, v, "over a hole, at its rim");
+}
+
+// A turning drum's surface under a moving grain: the central difference of the surface's
+// velocity at the nearest point along the path.
+TEST(CurvedWallRates, ATurningDrumsSurfaceVelocityHasTheRateOfThePointUnderTheGrain) {
+  Wall drum = cylinder(0.1, true);
+  drum.angular_velocity = {0, 2, 0};
+  const Vec3 x{0.03, 0.01, -0.06}, v{0.4, 0.1, -0.3};
+  const DualVec3 s = surface_velocity<Dual>(drum, Motion<Dual>{x, DualVec3(v, {}), DualVec3()}, drum.touch(x));
+  const double h = 1e-6;
+  const Vec3 difference = (drum.surface_velocity_at(x + h * v) - drum.surface_velocity_at(x - h * v)) / (2 * h);
+  std::printf("rate |%.6g|, off the difference by %.3g\n", norm(rate(s)), norm(rate(s) - difference));
+  EXPECT_EQ(value(s), drum.surface_velocity_at(x));
+  EXPECT_LT(norm(rate(s) - difference), 1e-7 * norm(difference));
+}
+
+Simulation make_sim(World world, Model model, Integrator integrator) {
+  return Simulation(std::move(world), std::move(model), integrator, BlockStepRules{});
+}
+
+// The pendulum of test_cylinder.cpp (a frictionless bead released 10 degrees up the inside of
+// a horizontal cylinder: period 2 pi sqrt(L/g) (1 + theta0^2/16 + 11 theta0^4/3072), L = R - r,
+// and back to its height) with block steps of dt = 0.5 ms: the contact's normal turns with
+// the bead all the way, and the Hermite steps need its rate.
+TEST(CurvedWallBlockSteps, AFrictionlessBeadInsideACylinderSwingsAsAPendulum) {
+  const double R = 0.1, r = 0.005, g = 9.81, theta0 = 10 * M_PI / 180, dt = 5e-4;
+  auto [world, model] = testing::make_world({"glass", 2500, 1e9, 0.3}, testing::spec_of("hertz_tsuji", "none", 1.0), dt,
+                                            {0, 0, -g});
+  world.walls.push_back(cylinder(R, true));
+  const double L = R - r;
+  world.particles.add(0, 0, 2 * r, 2500, {L * std::sin(theta0), 0, -L * std::cos(theta0)}, {});
+  Simulation sim = make_sim(std::move(world), std::move(model), Integrator::block_hermite);
+  sim.start();
+  const double period = 2 * M_PI * std::sqrt(L / g) * (1 + theta0 * theta0 / 16 + 11 * std::pow(theta0, 4) / 3072);
+  std::vector<double> crossings;  // times x changes sign
+  double x_before = sim.world().particles.position[0].x, highest_after_one = 0;
+  while (sim.world().time < 1.25 * period) {
+    sim.step();
+    const double x = sim.world().particles.position[0].x, t = sim.world().time;
+    if ((x < 0) != (x_before < 0)) crossings.push_back(t - dt * x / (x - x_before));
+    if (t > 0.75 * period) highest_after_one = std::max(highest_after_one, x);
+    x_before = x;
+  }
+  ASSERT_GE(crossings.size(), 2u);
+  const double measured = 2 * (crossings[1] - crossings[0]);
+  std::printf("period %.7f s, pendulum %.7f s; amplitude after one swing %.7f of the first; %llu evaluations\n", measured,
+              period, highest_after_one / (L * std::sin(theta0)),
+              static_cast<unsigned long long>(sim.particle_force_evaluations()));
+  EXPECT_NEAR(measured / period, 1.0, 2e-5);  // the overlap shortens L by 1e-5
+  // Sampled every dt: the highest sample is within (omega dt)^2 / 2 = 1.2e-5 of the top.
+  EXPECT_NEAR(highest_after_one / (L * std::sin(theta0)), 1.0, 1e-4);
+}
+
+// The ball of test_cylinder.cpp sliding off a hole's rim (it leaves where cos theta = 2/3;
+// 48.27 degrees for this stiff Hertz contact, see there), with block steps of dt = 10 us: the
+// normal from the rim turns through 48 degrees under the ball.
+TEST(CurvedWallBlockSteps, AFrictionlessBallSlidesOffTheRimWhereCosThetaIsTwoThirds) {
+  const double a = 0.01, r = 0.002, dt = 1e-5;
+  auto [world, model] = testing::make_world({"glass", 2500, 1e11, 0.3}, testing::spec_of("hertz_tsuji", "none", 0.9), dt,
+                                            {0, 0, -9.81});
+  world.walls.push_back(plate_with_hole());
+  world.particles.add(0, 0, 2 * r, 2500, {a - 1e-6, 0, r - 4e-9}, {});  // resting on the edge
+  Simulation sim = make_sim(std::move(world), std::move(model), Integrator::block_hermite);
+  sim.start();
+  double theta = -1;
+  for (int n = 0; n < 40000 && theta < 0; ++n) {
+    sim.step();
+    const Vec3 x = sim.world().particles.position[0];
+    const double from_vertical = std::atan2(a - x.x, x.z);
+    if (from_vertical > 0.2 && sim.world().particles.contact_count[0] == 0) theta = from_vertical;  // off the rim
+  }
+  std::printf("left the rim at %.4f degrees (cos theta = %.5f)\n", theta * 180 / M_PI, std::cos(theta));
+  EXPECT_NEAR(std::cos(theta), 2.0 / 3.0, 3e-3);
+}
+
+// A ball with Mindlin friction set on the inside of a drum turning at 3 rad/s is dragged up
+// its side: block steps (dt = 0.2 ms) and velocity Verlet (dt = 1 us) give the same path over
+// 0.2 s to within the fixed step's error (the surface's velocity and the normal turning under
+// the rolling ball, with their rates).
+TEST(CurvedWallBlockSteps, ABallInATurningDrumFollowsVelocityVerletsPath) {
+  const double R = 0.05, r = 0.004;
+  auto path = [&](Integrator integrator, double dt) {
+    auto [world, model] = testing::make_world({"glass", 2500, 1e8, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5),
+                                              dt, {0, 0, -9.81});
+    Wall drum = cylinder(R, true);
+    drum.angular_velocity = {0, 3, 0};
+    world.walls.push_back(drum);
+    world.particles.add(0, 0, 2 * r, 2500, {0, 0, -(R - r) + 2e-6}, {});
+    Simulation sim = make_sim(std::move(world), std::move(model), integrator);
+    sim.start();
+    sim.advance_to(std::llround(0.2 / dt));
+    return sim.world().particles;
+  };
+  const Particles block = path(Integrator::block_hermite, 2e-4), verlet = path(Integrator::velocity_verlet, 1e-6);
+  const double climbed = std::atan2(verlet.position[0].x, -verlet.position[0].z);  // rad up the side
+  std::printf("climbed %.4f rad; block - Verlet: %.3g m, %.3g m/s, %.3g rad/s\n", climbed,
+              norm(block.position[0] - verlet.position[0]), norm(block.velocity[0] - verlet.velocity[0]),
+              norm(block.omega[0] - verlet.omega[0]));
+  EXPECT_GT(std::abs(climbed), 0.03);
+  EXPECT_LT(norm(block.position[0] - verlet.position[0]), 1e-6);
+  EXPECT_LT(norm(block.velocity[0] - verlet.velocity[0]), 1e-4);
+}
+
+}  // namespace
+}  // namespace tsubu
