@@ -9,7 +9,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 
+#include "mesh_plate.hpp"
 #include "scenario_run.hpp"
 #include "tsubu/app/observed_run.hpp"
 #include "tsubu/source/admission.hpp"
@@ -173,6 +176,117 @@ TEST(Insertion, ACrowdedRegionDelaysGrainsWithoutDroppingOrOverlapping) {
   for (std::size_t a = 0; a < p.size(); ++a)
     for (std::size_t b = a + 1; b < p.size(); ++b)
       if (std::abs(p.position[a].z - p.position[b].z) < 0.01) ASSERT_GE(norm(p.position[a] - p.position[b]), p.radius[a] + p.radius[b]);
+}
+
+// The distance of x from the nearest point of any of the mesh's triangles, by brute force.
+double mesh_distance(const TriangleMesh& mesh, const Vec3& x) {
+  double d = INFINITY;
+  for (std::uint32_t t = 0; t < mesh.size(); ++t) d = std::min(d, norm(x - mesh.nearest(t, x).point));
+  return d;
+}
+
+// A mesh's triangles where the wall has them now, in the box's frame (as vtk.cpp draws them).
+TriangleMesh mesh_in_box(const Wall& w) {
+  std::vector<Vec3> v;
+  for (const Vec3& a : w.mesh->vertices()) v.push_back(w.from_mesh(a - w.axis_offset) + w.axis_offset + w.point);
+  std::vector<std::array<std::uint32_t, 3>> t;
+  for (std::size_t k = 0; k < w.mesh->size(); ++k) t.push_back(w.mesh->triangle(k));
+  return TriangleMesh(v, t);
+}
+
+// A flat mesh of 800 triangles across the region (a plate of 80 mm, the region 40 mm wide),
+// 0.05 kg due at once: the grains whose place is within their radius of a triangle wait and
+// enter later, on both sides of the mesh (it is two-sided), and none stands within its
+// radius of any triangle, by brute force over them all. Twice: the plate as read, and a plate
+// that has moved (its `point`) and turns about a slanted axis (10 rad/s), kept clear of
+// where it is at the time of each try.
+TEST(Insertion, AMeshAcrossTheRegionIsKeptClearOfOnBothSides) {
+  const Domain domain{{0, 0, -10}, {0.04, 0.04, 0.1}, {false, false, false}};
+  const Vec3 middle{0.02, 0.02, 0.065};
+  for (const bool turning : {false, true}) {
+    InsertionStream s(box_insertion(0, 0.05), 17);
+    Wall wall;
+    wall.shape = WallShape::mesh;
+    wall.mesh = std::make_shared<const TriangleMesh>(
+        testing::plate(20, 0.004, [&](const Vec3& a) { return a - Vec3{0.04, 0.04, 0} + (turning ? Vec3{} : middle); }));
+    if (turning) {
+      wall.point = middle;
+      wall.angular_velocity = Vec3{1, 2, 0} * (10 / std::sqrt(5.0));
+      wall.axis_offset = {0.001, -0.002, 0};
+    }
+    Particles p;
+    std::size_t entered = 0, delayed = 0, above = 0, below = 0;
+    double closest = INFINITY;  // the smallest distance from the mesh over the radius
+    int calls = 0;
+    for (double t = 0.1; !s.exhausted() && calls < 2000; t += 1e-3, ++calls) {
+      for (Vec3& x : p.position) x.z -= 0.1;  // out of the region, out of each other's way
+      wall.turn_to(t);
+      const Admission a = admit_due(s, t, domain, p, 0, 0, std::vector<Wall>{wall});
+      entered += a.entered, delayed += a.delayed;
+      if (calls == 0) {
+        EXPECT_GT(a.delayed, 100u);
+        EXPECT_GT(a.entered, 100u);
+      }
+      const TriangleMesh now = mesh_in_box(wall);  // flat: one plane
+      for (std::size_t k = p.size() - a.entered; k < p.size(); ++k) {
+        const double d = mesh_distance(now, p.position[k]);
+        closest = std::min(closest, d / p.radius[k]);
+        ASSERT_GE(d, p.radius[k]) << "grain " << p.id[k] << (turning ? ", turning mesh" : "");
+        ++(dot(p.position[k] - now.vertices()[0], now.normal(0)) > 0 ? above : below);
+      }
+    }
+    std::printf("%s: %zu grains entered in %d calls (%zu above, %zu below the mesh), %zu delays; closest %.4g radii from it\n",
+                turning ? "moved and turning" : "as read", entered, calls, above, below, delayed, closest);
+    EXPECT_TRUE(s.exhausted());
+    EXPECT_EQ(entered, static_cast<std::size_t>(s.state().released));
+    EXPECT_EQ(delayed, static_cast<std::size_t>(s.state().delays));
+    EXPECT_GT(above, 100u);
+    EXPECT_GT(below, 100u);
+    EXPECT_LT(closest, 1.05);  // grains are placed right up to the mesh
+  }
+}
+
+// The square hopper of tests/scenarios/insertion_mesh.toml filled from a region that reaches
+// into its sloping faces: every grain placed at least its radius from every triangle (checked
+// as it enters, by brute force), those that could not be placed at once placed later, and the
+// run goes on past its start without an overlap; 1 and 2 threads give the same bits.
+TEST(Insertion, TheMeshHopperFillsFromARegionAcrossItsFaces) {
+  const Scenario sc = testing::test_scenario("insertion_mesh.toml", {"search.sort_every=100"});
+  omp_set_num_threads(1);
+  Simulation sim = new_simulation(sc);
+  sim.start();
+  const Wall& hopper = sim.world().walls[0];
+  ASSERT_TRUE(hopper.mesh);
+  std::size_t seen = 0;
+  double closest = INFINITY;
+  auto check_new = [&] {
+    const Particles& p = sim.world().particles;
+    for (std::size_t k = seen; k < p.size(); ++k) {
+      const double d = mesh_distance(*hopper.mesh, hopper.to_mesh(p.position[k]));
+      closest = std::min(closest, d / p.radius[k]);
+      ASSERT_GE(d, p.radius[k]) << "grain " << p.id[k] << " at step " << sim.world().step;
+    }
+    seen = p.size();
+  };
+  check_new();
+  const std::size_t at_once = seen;
+  const std::int64_t steps = std::llround(sc.duration / sc.dt);
+  while (sim.world().step < steps) {
+    sim.step();
+    check_new();
+  }
+  std::map<std::string, double> results;
+  for (const auto& [name, value] : sim.inflow()->results(sim.world().time, sim.inflow_mass_entered())) results[name] = value;
+  std::printf("%zu grains placed at once, %zu in all; %g delays of %g grains; closest %.4g radii from the mesh\n", at_once,
+              seen, results["inflow_delays"], results["inflow_delayed_grains"], closest);
+  EXPECT_GT(at_once, 300u);
+  EXPECT_GT(seen, at_once);
+  EXPECT_GT(results["inflow_delayed_grains"], 100);
+  EXPECT_EQ(results["inflow_waiting"], 0);
+  EXPECT_TRUE(sim.inflow()->ended());
+  EXPECT_LT(closest, 1.05);
+  const World two = testing::run_scenario(sc, 2);
+  EXPECT_TRUE(testing::same_particle_bits(sim.world(), two));
 }
 
 // The bin of tests/scenarios/insertion_bin.toml, filled for 0.15 s: 1 and 2 threads give the

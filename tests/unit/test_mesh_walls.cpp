@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "mesh_plate.hpp"
 #include "scenario_run.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "world_builder.hpp"
@@ -18,25 +19,10 @@ namespace {
 
 constexpr double kR = 0.003;  // m, the ball's radius
 
-// A square plate in z = 0 of n x n cells of side h about the origin, each cut into two
-// triangles along alternating diagonals: vertices shared by 4 or 8 triangles.
+// A square plate in z = 0 of n x n cells of side h about the origin (testing::plate).
 std::shared_ptr<const TriangleMesh> plate(int n, double h) {
-  std::vector<Vec3> v;
-  std::vector<std::array<std::uint32_t, 3>> t;
   const double half = 0.5 * n * h;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) v.push_back({i * h - half, j * h - half, 0});
-  auto at = [&](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      if ((i + j) % 2 == 0) {
-        t.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-        t.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-      } else {
-        t.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
-        t.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-      }
-  return std::make_shared<const TriangleMesh>(v, t);
+  return std::make_shared<const TriangleMesh>(testing::plate(n, h, [half](const Vec3& a) { return a - Vec3{half, half, 0}; }));
 }
 
 Wall mesh_wall(std::shared_ptr<const TriangleMesh> mesh) {

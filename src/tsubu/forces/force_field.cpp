@@ -193,19 +193,13 @@ void ForceField::grid_meshes(const World& world, const Particles& probe, double 
   if (mesh_grids_.size() == world.walls.size()) return;
   mesh_grids_.assign(world.walls.size(), std::nullopt);
   mesh_reach_.assign(world.walls.size(), 0.0);
-  // Cells about as wide as a particle's reach or a triangle, whichever is larger: a query
-  // visits a few cells, and a triangle lies in a few.
+  // Cells about as wide as a particle's reach or a triangle, whichever is larger.
   double widest = 0;
   for (double r : probe.radius) widest = std::max(widest, 2 * (r + margin));
   for (std::size_t w = 0; w < world.walls.size(); ++w) {
     const TriangleMesh* mesh = world.walls[w].mesh.get();
     if (!mesh) continue;
-    double size = 0;
-    for (std::size_t t = 0; t < mesh->size(); ++t) {
-      const Vec3 extent = mesh->upper(t) - mesh->lower(t);
-      size += std::max({extent.x, extent.y, extent.z});
-    }
-    mesh_grids_[w].emplace(*mesh, std::max(widest, size / static_cast<double>(mesh->size())));
+    mesh_grids_[w].emplace(*mesh, TriangleGrid::cell_for(*mesh, widest));
     const Wall& wall = world.walls[w];  // a turning mesh's farthest vertex from its axis
     const Vec3& k = wall.turn_axis;
     for (const Vec3& v : mesh->vertices()) {

@@ -34,6 +34,15 @@ TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) {
     each_cell(t, [&](long c) { members_[fill[static_cast<std::size_t>(c)]++] = static_cast<std::uint32_t>(t); });
 }
 
+double TriangleGrid::cell_for(const TriangleMesh& mesh, double width) {
+  double size = 0;
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    const Vec3 extent = mesh.upper(t) - mesh.lower(t);
+    size += std::max({extent.x, extent.y, extent.z});
+  }
+  return std::max(width, size / static_cast<double>(mesh.size()));
+}
+
 bool TriangleGrid::span(int a, double low, double high, long& first, long& last) const {
   const double from = std::floor((low - lower_[a]) / cell_), to = std::floor((high - lower_[a]) / cell_);
   if (!(to >= 0) || !(from < static_cast<double>(cells_[a]))) return false;  // misses the grid (or NaN)
@@ -55,6 +64,22 @@ void TriangleGrid::near(const Vec3& x, double reach, std::vector<std::uint32_t>&
       }
   std::sort(out.begin() + static_cast<long>(begin), out.end());
   out.erase(std::unique(out.begin() + static_cast<long>(begin), out.end()), out.end());
+}
+
+std::optional<TriangleDistance> TriangleGrid::nearest_within(const TriangleMesh& mesh, const Vec3& x, double reach,
+                                                             std::vector<std::uint32_t>& scratch) const {
+  scratch.clear();
+  near(x, reach, scratch);  // none when x is farther than reach from the grid, the mesh's box
+  std::optional<TriangleDistance> best;
+  for (std::uint32_t t : scratch) {
+    const Vec3 lower = mesh.lower(t), upper = mesh.upper(t);
+    bool apart = false;
+    for (int a = 0; a < 3; ++a) apart = apart || x[a] + reach < lower[a] || x[a] - reach > upper[a];
+    if (apart) continue;
+    const double d = norm(x - mesh.nearest(t, x).point);
+    if (d < reach && (!best || d < best->distance)) best = TriangleDistance{t, d};
+  }
+  return best;
 }
 
 }  // namespace tsubu

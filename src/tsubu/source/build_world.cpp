@@ -5,11 +5,13 @@
 #include <iomanip>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/format.hpp"
 #include "tsubu/search/pair_search.hpp"
+#include "tsubu/search/triangle_grid.hpp"
 #include "tsubu/source/size_moments.hpp"
 #include "tsubu/source/sources.hpp"
 
@@ -68,24 +70,40 @@ void check_overlaps(const World& w, const std::vector<Grain>& grains, const std:
 // at its first force evaluation; `check` reports it here, as the run sees it (a wall pushes
 // only centres in front of its surface). So is one on the far side of a cylinder or of a
 // cone's face, which would never feel it (a plane may leave particles behind it: another part
-// of the box; so may a cone beyond its rims). A mesh is left to the first evaluation, whose
-// report says the same of the initial state.
+// of the box; so may a cone beyond its rims). A mesh is two-sided: its depth is from the
+// nearest of its triangles, found through a grid of them (cells a largest grain wide).
 void check_walls(const World& w, double overlap_limit, const std::vector<Grain>& grains) {
   const Particles& p = w.particles;
+  if (p.size() == 0) return;
+  const double widest = 2 * *std::max_element(p.radius.begin(), p.radius.end());
+  std::vector<std::optional<TriangleGrid>> grids(w.walls.size());
+  for (std::size_t k = 0; k < w.walls.size(); ++k)
+    if (const TriangleMesh* mesh = w.walls[k].mesh.get()) grids[k].emplace(*mesh, TriangleGrid::cell_for(*mesh, widest));
+  std::vector<std::uint32_t> near;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t k = 0; k < w.walls.size(); ++k) {
-      if (w.walls[k].mesh) continue;
-      const double dist = w.walls[k].touch(p.position[i]).distance;
-      if (const WallShape shape = w.walls[k].shape; shape != WallShape::plane && !(dist > 0))
-        throw InputError(grains[i].where, "particle centre " + format_vec(p.position[i]) + " starts " +
-                                              (w.walls[k].inside ? "outside" : "inside") + " wall " + std::to_string(k) +
-                                              (shape == WallShape::cone ? ", a cone" : ", a cylinder") + " with the particles " +
-                                              (w.walls[k].inside ? "inside" : "outside") + " it: place the particles on its side");
+      const Wall& wall = w.walls[k];
+      std::string which = std::to_string(k);
+      double dist = 0;
+      if (wall.mesh) {
+        const auto nearest = grids[k]->nearest_within(*wall.mesh, wall.to_mesh(p.position[i]), p.radius[i], near);
+        if (!nearest) continue;
+        dist = nearest->distance;
+        which += ", a mesh (triangle " + std::to_string(nearest->triangle) + "),";
+      } else {
+        dist = wall.touch(p.position[i]).distance;
+        if (const WallShape shape = wall.shape; shape != WallShape::plane && !(dist > 0))
+          throw InputError(grains[i].where, "particle centre " + format_vec(p.position[i]) + " starts " +
+                                                (wall.inside ? "outside" : "inside") + " wall " + which +
+                                                (shape == WallShape::cone ? ", a cone" : ", a cylinder") + " with the particles " +
+                                                (wall.inside ? "inside" : "outside") + " it: place the particles on its side");
+        if (!(dist > 0)) continue;
+      }
       const double ratio = (p.radius[i] - dist) / (2 * p.radius[i]);
-      if (dist > 0 && !(ratio <= overlap_limit)) {
+      if (!(ratio <= overlap_limit)) {
         std::ostringstream s;
         s << "particle centre " << format_vec(p.position[i]) << " (diameter " << 2 * p.radius[i] << " m) starts inside wall "
-          << k << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << overlap_limit
+          << which << " by " << ratio << " of its diameter; allowed up to simulation.overlap_limit = " << overlap_limit
           << " (move the particle or the wall)";
         throw InputError(grains[i].where, s.str());
       }

@@ -66,8 +66,18 @@ Vec3 InsertionStream::position(const NewGrain& g, double) const {
   return r.point + along * r.axis + rho * (std::cos(phi) * u + std::sin(phi) * v);
 }
 
-bool InsertionStream::clear_of_walls(const Vec3& x, double radius, std::span<const Wall> walls) const {
-  return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) { return w.touch(x).distance >= radius; });
+bool InsertionStream::clear_of_walls(const Vec3& x, double radius, std::span<const Wall> walls) {
+  return std::all_of(walls.begin(), walls.end(), [&](const Wall& w) {
+    if (!w.mesh) return w.touch(x).distance >= radius;
+    return !grid_of(w.mesh).nearest_within(*w.mesh, w.to_mesh(x), radius, near_);  // two-sided: no "behind"
+  });
+}
+
+const TriangleGrid& InsertionStream::grid_of(const std::shared_ptr<const TriangleMesh>& mesh) {
+  for (const MeshGrid& g : mesh_grids_)
+    if (g.mesh == mesh) return *g.grid;
+  const double cell = TriangleGrid::cell_for(*mesh, insertion_.sizes.largest());
+  return *mesh_grids_.emplace_back(MeshGrid{mesh, std::make_shared<const TriangleGrid>(*mesh, cell)}).grid;
 }
 
 SphereGrid InsertionStream::neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,

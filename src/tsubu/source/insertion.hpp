@@ -6,9 +6,12 @@
 // grains before it (all at `start` without a rate), and is released while the mass released
 // stays within mass_limit. A grain whose place is taken (it would overlap a particle or
 // stand within its radius of a wall) waits and is tried again at the next step at a new
-// place: never dropped, never overlapped, as the inflow's grains (source/inflow.hpp).
+// place: never dropped, never overlapped, as the inflow's grains (source/inflow.hpp). A mesh
+// wall is two-sided: a place within its radius of any of its triangles is taken, from
+// either side.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -18,6 +21,7 @@
 #include "tsubu/core/vec3.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/search/sphere_grid.hpp"
+#include "tsubu/search/triangle_grid.hpp"
 #include "tsubu/source/inflow.hpp"
 #include "tsubu/world/domain.hpp"
 
@@ -53,8 +57,9 @@ class InsertionStream {
   Vec3 position(const NewGrain& g, double t) const;
   Vec3 velocity() const { return insertion_.velocity; }
   double density() const { return insertion_.density; }
-  // Within its radius of a wall (or behind one), a grain's place is taken.
-  bool clear_of_walls(const Vec3& x, double radius, std::span<const Wall> walls) const;
+  // Within its radius of a wall (or behind one), a grain's place is taken; of a mesh, within
+  // its radius of a triangle, where the mesh is at this time (Wall::to_mesh).
+  bool clear_of_walls(const Vec3& x, double radius, std::span<const Wall> walls);
   // The particles an entering grain could overlap (those reaching into the region), ready for
   // overlaps(x, r); the domain gives the periodic sides.
   SphereGrid neighbours(const Domain& domain, std::span<const Vec3> position, std::span<const double> radius,
@@ -69,6 +74,16 @@ class InsertionStream {
   Insertion insertion_;
   std::uint64_t seed_;
   State state_;
+  // The grid of each mesh met in clear_of_walls, built at its first use (cells a largest
+  // grain or a triangle wide); shared by copies of the stream.
+  struct MeshGrid {
+    std::shared_ptr<const TriangleMesh> mesh;
+    std::shared_ptr<const TriangleGrid> grid;
+  };
+  std::vector<MeshGrid> mesh_grids_;
+  std::vector<std::uint32_t> near_;  // scratch of clear_of_walls
+
+  const TriangleGrid& grid_of(const std::shared_ptr<const TriangleMesh>& mesh);
 
   double diameter(std::int64_t serial) const;
 };
