@@ -29,7 +29,7 @@ Touches touches(const TriangleMesh& mesh, const Vec3& x) {
   std::vector<WallTouch> found;
   for (std::uint32_t t = 0; t < mesh.size(); ++t) {
     WallTouch w;
-    if (!mesh.touch(t, x, w) || !(w.distance < 0.01)) continue;
+    if (!mesh.touch(t, x, 0.01, w) || !(w.distance < 0.01)) continue;
     if (std::none_of(found.begin(), found.end(), [&](const WallTouch& f) { return same_contact(f, w); }))
       found.push_back(w), ++out.count, out.touch = w;
   }
@@ -148,6 +148,38 @@ TEST(MeshGeometry, ACubeTouchesOnceOutsideItsCornersAndThriceInsideThem) {
   // Inside, near the corner: its three faces.
   t = touches(box, {0.999, 0.998, 0.997});
   EXPECT_EQ(t.count, 3);
+}
+
+// The tests of reach (may_reach, and touch's radius) leave out only triangles out of reach:
+// a ball's contacts within its radius are those it has at any reach, to the bit.
+TEST(MeshGeometry, TheTestsOfReachLeaveOutOnlyTrianglesOutOfReach) {
+  const Vec3 n = Vec3{0.3, -0.2, 0.9} / norm(Vec3{0.3, -0.2, 0.9});
+  const TriangleMesh meshes[] = {cube(), roof(30), roof(30, +1),
+                                 testing::plate(4, 0.25, [&](const Vec3& a) { return rotate(a, n); })};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> around(-0.3, 1.3), radius(0.01, 0.4);
+  int within = 0, without = 0;
+  for (const TriangleMesh& mesh : meshes)
+    for (int s = 0; s < 2000; ++s) {
+      const Vec3 x{around(rng), around(rng), around(rng)};
+      const double r = radius(rng);
+      for (std::uint32_t t = 0; t < mesh.size(); ++t) {
+        if (norm(x - mesh.nearest(t, x).point) < r) ASSERT_TRUE(mesh.may_reach(t, x, r));
+        WallTouch any, near;
+        const bool counts = mesh.touch(t, x, INFINITY, any), counts_near = mesh.touch(t, x, r, near);
+        if (counts_near) ASSERT_TRUE(counts);
+        if (!counts || !(any.distance < r)) {
+          ++without;
+          continue;
+        }
+        ++within;
+        ASSERT_TRUE(counts_near);
+        EXPECT_EQ(near.distance, any.distance);
+        EXPECT_EQ(near.normal, any.normal);
+      }
+    }
+  EXPECT_GT(within, 1000);
+  EXPECT_GT(without, 1000);
 }
 
 TEST(MeshGeometry, RefusesTrianglesWithoutArea) {

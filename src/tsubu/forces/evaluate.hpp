@@ -332,7 +332,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
 template <class State>
 void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, const ContactStepRules* rules) {
   const Contact& c = world.contacts.walls()[k];
-  visit_law<typename State::Number>(model_->laws.at(world.particles.material[c.i], world.walls[world.wall_of(c.j)].material),
+  visit_law<typename State::Number>(model_->laws.at(world.particles.material[c.i], world.walls[wall_of_contact(world, k)].material),
                                     [&](const auto& normal, const auto& tangential, const auto& rolling) {
                                       evaluate_wall(world, state, k, normal, tangential, rolling, rules);
                                     });
@@ -346,19 +346,19 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const Particles& p = world.particles;
   Contact& c = world.contacts.walls()[k];
   const std::size_t i = c.i;
-  const Wall& wall = world.walls[world.wall_of(c.j)];
+  const Wall& wall = world.walls[wall_of_contact(world, k)];
   const double r = p.radius[i];
   const auto a = state.at(i);
   // With meshes (fixed steps), where it touches was found before (touch_walls).
   const bool found = !world.wall_elements.empty();
-  const WallTouch touch = found ? wall_touch_[k] : wall.touch(a.x);
+  const WallTouch touch = found ? wall_touch_[k].touch : wall.touch(a.x);
   const Vec3& n = touch.normal;
   const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a, touch);
   const double dist = touch.distance;
   // Touching from the front side only: a centre behind the surface has tunnelled through and
   // feels no force from it. A mesh's triangle may leave the contact to another (world/mesh.hpp).
   const bool was_touching = c.touching;
-  c.touching = dist < r && dist > 0 && (!found || wall_counts_[k]);
+  c.touching = dist < r && dist > 0 && (!found || wall_touch_[k].counts);
   if (!c.touching) {
     c.history = {};
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall

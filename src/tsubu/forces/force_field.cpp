@@ -228,7 +228,8 @@ void ForceField::find_wall_contacts(const World& world, const Particles& probe, 
           near.clear();
           mesh_grids_[w]->near(x, within, near);
           for (std::uint32_t t : near)
-            if (norm2(x - wall.mesh->nearest(t, x).point) < within * within) local.push_back({particle, world.wall_elements[w] + t});
+            if (wall.mesh->may_reach(t, x, within) && norm2(x - wall.mesh->nearest(t, x).point) < within * within)
+              local.push_back({particle, world.wall_elements[w] + t});
           continue;
         }
         // Centres in front of the surface (see evaluate_wall) and within the margin of touching.
@@ -266,37 +267,59 @@ void ForceField::evaluate_walls(World& world) {
 }
 
 void ForceField::touch_walls(World& world) {
-  const Particles& p = world.particles;
-  ContactList& contacts = world.contacts;
-  std::vector<Contact>& walls = contacts.walls();
-  wall_touch_.resize(walls.size());
-  wall_counts_.resize(walls.size());
-  auto touching_now = [&](std::uint32_t k) {
-    return wall_counts_[k] && wall_touch_[k].distance < p.radius[walls[k].i] && wall_touch_[k].distance > 0;
-  };
+  const std::vector<Contact>& contacts = world.contacts.walls();
+  wall_touch_.resize(contacts.size());
   parallel_for(world.owned(), [&](std::size_t i) {
-    contacts.for_each_wall_of(i, [&](std::uint32_t j, std::uint32_t k) {
-      bool counts = world.touch_element(j, p.position[i], wall_touch_[k]);
-      if (counts && world.walls[world.wall_of(j)].mesh)  // the same point of a mesh, found before: one contact
-        contacts.for_each_wall_of(i, [&](std::uint32_t j2, std::uint32_t k2) {
-          if (k2 < k && wall_counts_[k2] && world.wall_of(j2) == world.wall_of(j) && same_contact(wall_touch_[k2], wall_touch_[k]))
-            counts = false;
-        });
-      wall_counts_[k] = counts;
-    });
-    contacts.for_each_wall_of(i, [&](std::uint32_t j, std::uint32_t k) {
-      if (walls[k].touching || !touching_now(k) || !world.walls[world.wall_of(j)].mesh) return;
-      contacts.for_each_wall_of(i, [&](std::uint32_t j2, std::uint32_t k2) {
-        Contact& ended = walls[k2];
-        const std::uint32_t w = world.wall_of(j);
-        if (ended.touching && !touching_now(k2) && world.wall_of(j2) == w &&
-            world.walls[w].mesh->adjacent(j - world.wall_elements[w], j2 - world.wall_elements[w])) {
-          walls[k].history = ended.history;
-          ended.history = {}, ended.touching = false;  // given once
-        }
-      });
-    });
+    // A particle's wall contacts are in the order of their elements, so those with one wall
+    // are a run of them: [first, last).
+    const auto [begin, end] = world.contacts.walls_of(i);
+    for (std::uint32_t first = begin; first < end;) {
+      const std::uint32_t w = world.wall_of(contacts[first].j);
+      std::uint32_t last = first + 1;
+      while (last < end && contacts[last].j < world.wall_elements[w + 1]) ++last;
+      touch_wall(world, i, w, first, last);
+      first = last;
+    }
   });
+}
+
+void ForceField::touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last) {
+  const Wall& wall = world.walls[w];
+  const Vec3& position = world.particles.position[i];
+  if (!wall.mesh) {  // an analytic wall: one element, one contact
+    wall_touch_[first] = {wall.touch(position), w, true};
+    return;
+  }
+  std::vector<Contact>& contacts = world.contacts.walls();
+  const Vec3 x = wall.to_mesh(position);
+  const double r = world.particles.radius[i];
+  const std::uint32_t first_element = world.wall_elements[w];
+  for (std::uint32_t k = first; k < last; ++k) {
+    ElementTouch& e = wall_touch_[k];
+    e.wall = w;
+    // Surely out of reach, a triangle does not count (TriangleMesh::touch): its contact does not
+    // touch whether it counts or not, nor does one at the same point after it (below).
+    e.counts = touch_triangle(wall, contacts[k].j - first_element, x, r, e.touch);
+    // The same point of the mesh as a contact before it (round-off at a flat mesh's vertex):
+    // one contact, the first.
+    for (std::uint32_t before = first; before < k && e.counts; ++before)
+      e.counts = !(wall_touch_[before].counts && same_contact(wall_touch_[before].touch, e.touch));
+  }
+  // A contact that begins takes the history of one that ends on an adjacent triangle (a
+  // grain rolling over an edge keeps its spring), which gives it up.
+  auto touching_now = [&](std::uint32_t k) {
+    return wall_touch_[k].counts && wall_touch_[k].touch.distance < r && wall_touch_[k].touch.distance > 0;
+  };
+  for (std::uint32_t k = first; k < last; ++k) {
+    if (contacts[k].touching || !touching_now(k)) continue;
+    for (std::uint32_t k2 = first; k2 < last; ++k2) {
+      Contact& ended = contacts[k2];
+      if (ended.touching && !touching_now(k2) && wall.mesh->adjacent(contacts[k].j - first_element, ended.j - first_element)) {
+        contacts[k].history = ended.history;
+        ended.history = {}, ended.touching = false;  // given once
+      }
+    }
+  }
 }
 
 void ForceField::accumulate(World& world, double fluid_lead) {

@@ -276,13 +276,18 @@ class ForceField {
   const PairLaw* pair_law_ = nullptr;
   std::vector<Vec3> walls_built_at_;  // wall points at the last build
   // Meshes (World::wall_elements): per wall its triangles' grid, for a mesh (built at the
-  // first list build). Per wall contact, where its particle touches it at the last fixed-step
-  // evaluation, and whether the contact counts there (world/mesh.hpp).
+  // first list build). Per wall contact, where its particle touches its element at the last
+  // fixed-step evaluation, the element's wall, and whether the contact counts there
+  // (world/mesh.hpp).
+  struct ElementTouch {
+    WallTouch touch;
+    std::uint32_t wall = 0;
+    bool counts = false;
+  };
   std::vector<std::optional<TriangleGrid>> mesh_grids_;
   std::vector<double> mesh_reach_;  // m, per wall: a turning mesh's farthest vertex from its axis
   std::vector<std::pair<double, double>> walls_turn_at_;  // per wall: a turning mesh's (cos, sin) at the last build
-  std::vector<WallTouch> wall_touch_;
-  std::vector<char> wall_counts_;
+  std::vector<ElementTouch> wall_touch_;
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, rebuilds_ = 0;
@@ -304,10 +309,17 @@ class ForceField {
                           std::vector<Pair>& out);
   void grid_meshes(const World& world, const Particles& probe, double margin);
   // Fixed steps with meshes, before the wall contacts are evaluated: where each touches
-  // (wall_touch_, wall_counts_), one of a particle's contacts at the same point of a mesh
-  // counted, and a contact that begins on a mesh taking the history of one of the same
-  // mesh that ends (a grain rolling from triangle to triangle keeps its spring).
+  // (wall_touch_), one of a particle's contacts at the same point of a mesh counted, and a
+  // contact that begins on a mesh taking the history of one of the same mesh that ends (a
+  // grain rolling from triangle to triangle keeps its spring). touch_wall does it for
+  // particle i's contacts first .. last - 1 with wall w.
   void touch_walls(World& world);
+  void touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last);
+  // The wall of wall contact k: its element's with meshes (found by touch_walls), else the
+  // element itself.
+  std::uint32_t wall_of_contact(const World& world, std::size_t k) const {
+    return world.wall_elements.empty() ? world.contacts.walls()[k].j : wall_touch_[k].wall;
+  }
   // The crowd list from the same probe (each ball's reach added to the probe radii).
   void build_crowd_list(World& world, const Particles& probe, double margin, std::vector<Pair>& scratch);
   // The one contact evaluation (forces/evaluate.hpp), on the number type of `State`: a fixed

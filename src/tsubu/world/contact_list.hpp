@@ -15,6 +15,7 @@
 #pragma once
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "tsubu/world/particles.hpp"
@@ -114,6 +115,8 @@ class ContactList {
     for (std::uint32_t s = second_start_[x]; s < second_start_[x + 1]; ++s) f(pairs_[second_[s]].i, second_[s]);
     for (std::uint32_t k = first_start_[x]; k < first_start_[x + 1]; ++k) f(pairs_[k].j, k);
   }
+  // Particle x's wall contacts: the entries [first, last) of walls(), in their partners' order.
+  std::pair<std::uint32_t, std::uint32_t> walls_of(std::size_t x) const { return {wall_start_[x], wall_start_[x + 1]}; }
   // f(wall, k) for every listed wall contact k of particle x.
   template <class F>
   void for_each_wall_of(std::size_t x, F&& f) const {

@@ -48,6 +48,15 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> vertices, std::vector<std::array<st
     if (!(area2 > 0) || !std::isfinite(area2)) throw std::invalid_argument("triangle " + std::to_string(t) + " has no area");
     normal_[t] = c / area2;
   }
+  box_.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    box_[t] = {vertices_[triangles_[t][0]], vertices_[triangles_[t][0]]};
+    for (int j = 1; j < 3; ++j)
+      for (int a = 0; a < 3; ++a) {
+        box_[t][0][a] = std::min(box_[t][0][a], vertices_[triangles_[t][j]][a]);
+        box_[t][1][a] = std::max(box_[t][1][a], vertices_[triangles_[t][j]][a]);
+      }
+  }
 
   // Edges, numbered in the order of their vertices (p, q); each edge's triangles in their order.
   std::vector<EdgeSide> sides;
@@ -115,14 +124,14 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> vertices, std::vector<std::array<st
 NearestFeature TriangleMesh::nearest(std::uint32_t t, const Vec3& x) const {
   const auto& tri = triangles_[t];
   bool outside[3];
+  for (int k = 0; k < 3; ++k) outside[k] = !(dot(x - vertices_[edge_vertices_[edge_of_[t][k]][0]], inward_[t][k]) > 0);
+  if (!outside[0] && !outside[1] && !outside[2]) return {NearestFeature::face, t, x - dot(x - vertices_[tri[0]], normal_[t]) * normal_[t]};
   double along[3];  // the position of x's projection along each edge, from its vertex p (0) to q (1)
   for (int k = 0; k < 3; ++k) {
     const auto [p, q] = edge_vertices_[edge_of_[t][k]];
-    const Vec3 rel = x - vertices_[p], d = vertices_[q] - vertices_[p];
-    outside[k] = !(dot(rel, inward_[t][k]) > 0);
-    along[k] = dot(rel, d) / dot(d, d);
+    const Vec3 d = vertices_[q] - vertices_[p];
+    along[k] = dot(x - vertices_[p], d) / dot(d, d);
   }
-  if (!outside[0] && !outside[1] && !outside[2]) return {NearestFeature::face, t, x - dot(x - vertices_[tri[0]], normal_[t]) * normal_[t]};
   // An edge's region: outside across it, and its projection within it.
   NearestFeature best{NearestFeature::vertex, 0, {}};
   double best2 = INFINITY;
@@ -150,6 +159,13 @@ NearestFeature TriangleMesh::nearest(std::uint32_t t, const Vec3& x) const {
   return best;
 }
 
+bool TriangleMesh::may_reach(std::uint32_t t, const Vec3& x, double reach) const {
+  const double grown = reach * (1 + kReachMargin);
+  for (int a = 0; a < 3; ++a)
+    if (!(x[a] >= box_[t][0][a] - grown && x[a] <= box_[t][1][a] + grown)) return false;
+  return std::abs(dot(x - vertices_[triangles_[t][0]], normal_[t])) <= grown;
+}
+
 bool TriangleMesh::concave_from(std::uint32_t e, const Vec3& x) const {
   if (edge_flat_[e] || edge_start_[e + 1] - edge_start_[e] != 2) return false;
   const std::uint32_t owner = edge_triangles_[edge_start_[e]];
@@ -168,50 +184,39 @@ bool TriangleMesh::vertex_concave_from(std::uint32_t v, const Vec3& x) const {
 }
 
 bool TriangleMesh::all_nearest(const std::vector<std::uint32_t>& start, const std::vector<std::uint32_t>& list,
-                               std::uint32_t at, NearestFeature::Kind kind, std::uint32_t index, const Vec3& x) const {
+                               std::uint32_t at, NearestFeature::Kind kind, std::uint32_t index, std::uint32_t asking,
+                               const Vec3& x) const {
   for (std::uint32_t s = start[at]; s < start[at + 1]; ++s) {
+    if (list[s] == asking) continue;  // its own nearest feature is the one asked about
     const NearestFeature f = nearest(list[s], x);
     if (f.kind != kind || f.index != index) return false;
   }
   return true;
 }
 
-bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, WallTouch& out) const {
+bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out) const {
+  if (!may_reach(t, x, r)) return false;
   const NearestFeature f = nearest(t, x);
-  if (f.kind == NearestFeature::face) {
+  if (f.kind == NearestFeature::face) {  // its distance, the plane's, may_reach found within reach
     const double d = dot(x - vertices_[triangles_[t][0]], normal_[t]);
     if (d == 0) return false;
     out = {std::abs(d), d > 0 ? normal_[t] : -normal_[t]};
     return true;
   }
+  const Vec3 from = x - f.point;
+  const double d = norm(from);
+  if (!(d > 0) || !(d <= r * (1 + kReachMargin))) return false;
   // An edge or vertex: counted by its owner where it is the surface's nearest point around
   // it; by each triangle where the surface is concave there (see the header).
   if (f.kind == NearestFeature::edge && !concave_from(f.index, x) &&
-      (edge_triangles_[edge_start_[f.index]] != t || !all_nearest(edge_start_, edge_triangles_, f.index, f.kind, f.index, x)))
+      (edge_triangles_[edge_start_[f.index]] != t || !all_nearest(edge_start_, edge_triangles_, f.index, f.kind, f.index, t, x)))
     return false;
   if (f.kind == NearestFeature::vertex && !vertex_concave_from(f.index, x) &&
       (vertex_triangles_[vertex_start_[f.index]] != t ||
-       !all_nearest(vertex_start_, vertex_triangles_, f.index, f.kind, f.index, x)))
+       !all_nearest(vertex_start_, vertex_triangles_, f.index, f.kind, f.index, t, x)))
     return false;
-  const Vec3 from = x - f.point;
-  const double d = norm(from);
-  if (!(d > 0)) return false;
   out = {d, from / d};
   return true;
-}
-
-Vec3 TriangleMesh::lower(std::size_t t) const {
-  Vec3 l = vertices_[triangles_[t][0]];
-  for (int j = 1; j < 3; ++j)
-    for (int k = 0; k < 3; ++k) l[k] = std::min(l[k], vertices_[triangles_[t][j]][k]);
-  return l;
-}
-
-Vec3 TriangleMesh::upper(std::size_t t) const {
-  Vec3 u = vertices_[triangles_[t][0]];
-  for (int j = 1; j < 3; ++j)
-    for (int k = 0; k < 3; ++k) u[k] = std::max(u[k], vertices_[triangles_[t][j]][k]);
-  return u;
 }
 
 }  // namespace tsubu

@@ -59,6 +59,11 @@ class TriangleMesh {
  public:
   // Two triangles whose normals differ by less than this are coplanar, rad.
   static constexpr double kFlatAngle = 1e-9;
+  // The tests of reach (may_reach, touch) give up on a triangle only when it is farther than
+  // the reach by more than this part of it: the nearest point's round-off, some units in the
+  // last place of the coordinates, lies far within that margin, so that such a triangle is
+  // surely out of reach.
+  static constexpr double kReachMargin = 1e-6;
 
   // Throws std::invalid_argument for a triangle with a repeated vertex or no area, or an
   // index out of range.
@@ -72,9 +77,15 @@ class TriangleMesh {
 
   // The nearest part of triangle t to x.
   NearestFeature nearest(std::uint32_t t, const Vec3& x) const;
-  // Whether triangle t counts the contact of a ball centred at x (see above), and if so where
-  // it touches: the distance of x from the nearest point and the unit normal from there to x.
-  bool touch(std::uint32_t t, const Vec3& x, WallTouch& out) const;
+  // Whether x may be within `reach` of triangle t: false where it surely is not (kReachMargin),
+  // being farther than that from t's plane or, along some axis, from t's bounding box (each a
+  // lower bound of its distance from the triangle). A cheap test before nearest().
+  bool may_reach(std::uint32_t t, const Vec3& x, double reach) const;
+  // Whether triangle t counts the contact of a ball of radius r centred at x (see above), and
+  // if so where it touches: the distance of x from the nearest point and the unit normal from
+  // there to x. False for a triangle surely out of the ball's reach (kReachMargin), which is
+  // not asked about further (r = INFINITY: none is).
+  bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out) const;
 
   // Whether triangles a and b share a vertex.
   bool adjacent(std::uint32_t a, std::uint32_t b) const {
@@ -84,20 +95,23 @@ class TriangleMesh {
     return false;
   }
   // The corners of triangle t's bounding box.
-  Vec3 lower(std::size_t t) const;
-  Vec3 upper(std::size_t t) const;
+  const Vec3& lower(std::size_t t) const { return box_[t][0]; }
+  const Vec3& upper(std::size_t t) const { return box_[t][1]; }
 
  private:
   // Per edge (its vertices p < q): the triangles that share it, the coplanar flag, and the
   // bend of its second triangle out of its owner's plane (for concavity).
   bool concave_from(std::uint32_t e, const Vec3& x) const;
   bool vertex_concave_from(std::uint32_t v, const Vec3& x) const;
+  // Whether the feature (kind, index) is the nearest to x of every triangle of list[start[at]
+  // .. start[at + 1]) (an edge's or a vertex's), `asking` (one of them) known to find it so.
   bool all_nearest(const std::vector<std::uint32_t>& start, const std::vector<std::uint32_t>& list, std::uint32_t at,
-                   NearestFeature::Kind kind, std::uint32_t index, const Vec3& x) const;
+                   NearestFeature::Kind kind, std::uint32_t index, std::uint32_t asking, const Vec3& x) const;
 
   std::vector<Vec3> vertices_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;
   std::vector<Vec3> normal_;
+  std::vector<std::array<Vec3, 2>> box_;  // per triangle, its bounding box's lower and upper corners
   // Triangle t's edge k runs between its vertices k and k+1 (mod 3): edge_of_[t][k] is its
   // index, inward_[t][k] a vector in t's plane, across the edge, towards t's inside.
   std::vector<std::array<std::uint32_t, 3>> edge_of_;

@@ -3,6 +3,7 @@
 // (model/model.hpp), beside it.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -13,6 +14,15 @@
 #include "tsubu/world/particles.hpp"
 
 namespace tsubu {
+
+// Where a particle of radius r centred at x, given in the mesh's frame (Wall::to_mesh),
+// touches triangle t of the mesh wall `wall`, its normal in the box's frame; false when the
+// triangle does not count the contact or is surely out of reach (TriangleMesh::touch).
+inline bool touch_triangle(const Wall& wall, std::uint32_t t, const Vec3& x, double r, WallTouch& out) {
+  if (!wall.mesh->touch(t, x, r, out)) return false;
+  out.normal = wall.from_mesh(out.normal);
+  return true;
+}
 
 struct World {
   Domain domain;
@@ -45,8 +55,8 @@ struct World {
     if (wall_elements.empty()) return j;
     return static_cast<std::uint32_t>(std::upper_bound(wall_elements.begin(), wall_elements.end(), j) - wall_elements.begin() - 1);
   }
-  // Where a particle centred at x touches wall element j: the wall's touch, or the mesh
-  // triangle's; false when the triangle does not count the contact (world/mesh.hpp).
+  // Where a particle centred at x touches wall element j, at any distance: the wall's touch,
+  // or the mesh triangle's; false when the triangle does not count the contact (world/mesh.hpp).
   bool touch_element(std::uint32_t j, const Vec3& x, WallTouch& out) const {
     const std::uint32_t w = wall_of(j);
     const Wall& wall = walls[w];
@@ -54,9 +64,7 @@ struct World {
       out = wall.touch(x);
       return true;
     }
-    if (!wall.mesh->touch(j - wall_elements[w], wall.to_mesh(x), out)) return false;
-    out.normal = wall.from_mesh(out.normal);
-    return true;
+    return touch_triangle(wall, j - wall_elements[w], wall.to_mesh(x), INFINITY, out);
   }
 };
 
