@@ -6,10 +6,11 @@
 namespace tsubu {
 
 TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) {
-  Vec3 upper = mesh.upper(0);
-  lower_ = mesh.lower(0);
-  for (std::size_t t = 1; t < mesh.size(); ++t)
-    for (int a = 0; a < 3; ++a) lower_[a] = std::min(lower_[a], mesh.lower(t)[a]), upper[a] = std::max(upper[a], mesh.upper(t)[a]);
+  for (std::size_t t = 0; t < mesh.size(); ++t) boxes_.push_back(mesh.box(t));
+  Vec3 upper = boxes_[0][1];
+  lower_ = boxes_[0][0];
+  for (const auto& [low, high] : boxes_)
+    for (int a = 0; a < 3; ++a) lower_[a] = std::min(lower_[a], low[a]), upper[a] = std::max(upper[a], high[a]);
   cell_ = cell;
   for (;;) {
     long total = 1;
@@ -20,7 +21,7 @@ TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) {
   // Two passes over the triangles' boxes: count per cell, then fill.
   auto each_cell = [&](std::size_t t, auto&& f) {
     long first[3], last[3];
-    for (int a = 0; a < 3; ++a) span(a, mesh.lower(t)[a], mesh.upper(t)[a], first[a], last[a]);
+    for (int a = 0; a < 3; ++a) span(a, boxes_[t][0][a], boxes_[t][1][a], first[a], last[a]);
     for (long k = first[2]; k <= last[2]; ++k)
       for (long j = first[1]; j <= last[1]; ++j)
         for (long i = first[0]; i <= last[0]; ++i) f(index(i, j, k));
@@ -37,7 +38,7 @@ TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) {
 double TriangleGrid::cell_for(const TriangleMesh& mesh, double width) {
   double size = 0;
   for (std::size_t t = 0; t < mesh.size(); ++t) {
-    const Vec3 extent = mesh.upper(t) - mesh.lower(t);
+    const Vec3 extent = mesh.box(t)[1] - mesh.box(t)[0];
     size += std::max({extent.x, extent.y, extent.z});
   }
   return std::max(width, size / static_cast<double>(mesh.size()));
@@ -60,7 +61,8 @@ void TriangleGrid::near(const Vec3& x, double reach, std::vector<std::uint32_t>&
     for (long j = first[1]; j <= last[1]; ++j)
       for (long i = first[0]; i <= last[0]; ++i) {
         const auto c = static_cast<std::size_t>(index(i, j, k));
-        out.insert(out.end(), members_.begin() + start_[c], members_.begin() + start_[c + 1]);
+        for (std::uint32_t s = start_[c]; s < start_[c + 1]; ++s)
+          if (grown_box_holds(boxes_[members_[s]], x, reach)) out.push_back(members_[s]);
       }
   std::sort(out.begin() + static_cast<long>(begin), out.end());
   out.erase(std::unique(out.begin() + static_cast<long>(begin), out.end()), out.end());
@@ -69,13 +71,9 @@ void TriangleGrid::near(const Vec3& x, double reach, std::vector<std::uint32_t>&
 std::optional<TriangleDistance> TriangleGrid::nearest_within(const TriangleMesh& mesh, const Vec3& x, double reach,
                                                              std::vector<std::uint32_t>& scratch) const {
   scratch.clear();
-  near(x, reach, scratch);  // none when x is farther than reach from the grid, the mesh's box
+  near(x, reach, scratch);  // only triangles whose grown boxes hold x
   std::optional<TriangleDistance> best;
   for (std::uint32_t t : scratch) {
-    const Vec3 lower = mesh.lower(t), upper = mesh.upper(t);
-    bool apart = false;
-    for (int a = 0; a < 3; ++a) apart = apart || x[a] + reach < lower[a] || x[a] - reach > upper[a];
-    if (apart) continue;
     const double d = norm(x - mesh.nearest(t, x).point);
     if (d < reach && (!best || d < best->distance)) best = TriangleDistance{t, d};
   }

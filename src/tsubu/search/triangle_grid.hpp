@@ -1,6 +1,7 @@
 // A mesh's triangles binned in a uniform grid over its bounding box, for the triangles near a
 // point: a large mesh costs per triangle near the grains, not per triangle.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -24,7 +25,7 @@ class TriangleGrid {
   static double cell_for(const TriangleMesh& mesh, double width);
 
   // Appends to `out` the triangles whose bounding boxes come within `reach` of x (in the
-  // mesh's frame), in ascending order, each once.
+  // mesh's frame; grown_box_holds), in ascending order, each once.
   void near(const Vec3& x, double reach, std::vector<std::uint32_t>& out) const;
   // The triangle of `mesh` (the grid's) nearest to x (in the mesh's frame) of those nearer
   // than `reach`, the lowest index of equals; none when no triangle is. A point farther than
@@ -40,6 +41,7 @@ class TriangleGrid {
   double cell_ = 0;
   long cells_[3] = {1, 1, 1};
   std::vector<std::uint32_t> start_, members_;  // cell c's triangles: members_[start_[c] .. start_[c + 1])
+  std::vector<std::array<Vec3, 2>> boxes_;        // per triangle, its bounding box (TriangleMesh::box)
 
   long index(long i, long j, long k) const { return (k * cells_[1] + j) * cells_[0] + i; }
   // The range of cells along axis a that [low, high] covers, clamped to the grid; empty when

@@ -160,10 +160,8 @@ NearestFeature TriangleMesh::nearest(std::uint32_t t, const Vec3& x) const {
 }
 
 bool TriangleMesh::may_reach(std::uint32_t t, const Vec3& x, double reach) const {
-  const double grown = reach * (1 + kReachMargin);
-  for (int a = 0; a < 3; ++a)
-    if (!(x[a] >= box_[t][0][a] - grown && x[a] <= box_[t][1][a] + grown)) return false;
-  return std::abs(dot(x - vertices_[triangles_[t][0]], normal_[t])) <= grown;
+  return grown_box_holds(box_[t], x, reach) &&
+         std::abs(dot(x - vertices_[triangles_[t][0]], normal_[t])) <= reach * (1 + kReachMargin);
 }
 
 bool TriangleMesh::concave_from(std::uint32_t e, const Vec3& x) const {

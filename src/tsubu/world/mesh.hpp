@@ -79,7 +79,8 @@ class TriangleMesh {
   NearestFeature nearest(std::uint32_t t, const Vec3& x) const;
   // Whether x may be within `reach` of triangle t: false where it surely is not (kReachMargin),
   // being farther than that from t's plane or, along some axis, from t's bounding box (each a
-  // lower bound of its distance from the triangle). A cheap test before nearest().
+  // lower bound of its distance from the triangle: grown_box_holds). A cheap test before
+  // nearest().
   bool may_reach(std::uint32_t t, const Vec3& x, double reach) const;
   // Whether triangle t counts the contact of a ball of radius r centred at x (see above), and
   // if so where it touches: the distance of x from the nearest point and the unit normal from
@@ -94,9 +95,8 @@ class TriangleMesh {
         if (u == v) return true;
     return false;
   }
-  // The corners of triangle t's bounding box.
-  const Vec3& lower(std::size_t t) const { return box_[t][0]; }
-  const Vec3& upper(std::size_t t) const { return box_[t][1]; }
+  // Triangle t's bounding box: its lower and upper corners.
+  const std::array<Vec3, 2>& box(std::size_t t) const { return box_[t]; }
 
  private:
   // Per edge (its vertices p < q): the triangles that share it, the coplanar flag, and the
@@ -123,5 +123,13 @@ class TriangleMesh {
   std::vector<std::uint32_t> vertex_start_, vertex_triangles_;  // the triangles of vertex v, lowest first
   std::vector<std::uint32_t> vertex_edge_start_, vertex_edges_;  // the edges of vertex v
 };
+
+// Whether the box {lower, upper} grown by `reach` on every side, and by kReachMargin of it,
+// holds x: where it does not, x is surely farther than the reach from all in the box.
+inline bool grown_box_holds(const std::array<Vec3, 2>& box, const Vec3& x, double reach) {
+  const double grown = reach * (1 + TriangleMesh::kReachMargin);
+  return x.x >= box[0].x - grown && x.x <= box[1].x + grown && x.y >= box[0].y - grown && x.y <= box[1].y + grown &&
+         x.z >= box[0].z - grown && x.z <= box[1].z + grown;
+}
 
 }  // namespace tsubu
