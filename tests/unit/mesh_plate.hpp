@@ -1,7 +1,10 @@
-// A flat triangle mesh for tests (test_mesh.cpp, test_mesh_walls.cpp, test_insertion.cpp).
+// Triangle meshes for tests (test_mesh.cpp, test_mesh_walls.cpp, test_mesh_wall_rates.cpp,
+// test_insertion.cpp): a flat plate, a pyramid, and a mesh wall of either.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "tsubu/world/mesh.hpp"
@@ -29,6 +32,23 @@ TriangleMesh plate(int n, double h, Map f) {
       }
     }
   return TriangleMesh(v, t);
+}
+
+// A pyramid's apex at the origin, its four faces sloping down at 20 degrees to 1 cm from it
+// along x and y: faces, convex edges and a convex corner.
+inline std::shared_ptr<const TriangleMesh> pyramid() {
+  const double s = -std::tan(20 * M_PI / 180) * 0.01;
+  return std::make_shared<const TriangleMesh>(
+      std::vector<Vec3>{{0, 0, 0}, {0.01, -0.01, s}, {0.01, 0.01, s}, {-0.01, 0.01, s}, {-0.01, -0.01, s}},
+      std::vector<std::array<std::uint32_t, 3>>{{{0, 1, 2}}, {{0, 2, 3}}, {{0, 3, 4}}, {{0, 4, 1}}});
+}
+
+// A wall of the mesh, where it was read, standing still.
+inline Wall mesh_wall(std::shared_ptr<const TriangleMesh> mesh) {
+  Wall w;
+  w.shape = WallShape::mesh;
+  w.mesh = std::move(mesh);
+  return w;
 }
 
 }  // namespace tsubu::testing

@@ -511,13 +511,15 @@ TEST(Resume, DuringAnInsertionFromAnEarlierCheckpointTheRunEndsBitIdentical) {
 
 // A run of `scenario` to 0.2 s against one ended at 0.16 s, its checkpoints after 0.12 s lost,
 // and resumed from 0.12 s: the same outputs.
-void resume_bit_identical(const char* scenario) {
+void resume_bit_identical(const char* scenario, const std::vector<std::string>& settings = {}) {
   TempDir dir;
   const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
   auto args = [&](const fs::path& out, const char* duration) {
-    return std::vector<std::string>{"run", (kScenarios / scenario).string(), "--out", out.string(), "--set",
-                                    "output.checkpoint_every_steps=4000", std::string("--set"),
-                                    std::string("simulation.duration=") + duration};
+    std::vector<std::string> a{"run", (kScenarios / scenario).string(), "--out", out.string(), "--set",
+                               "output.checkpoint_every_steps=4000", std::string("--set"),
+                               std::string("simulation.duration=") + duration};
+    for (const std::string& s : settings) a.push_back("--set"), a.push_back(s);
+    return a;
   };
   ASSERT_EQ(run(args(ref, "0.2"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
   ASSERT_EQ(run(args(cut, "0.16"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
@@ -544,6 +546,11 @@ void resume_bit_identical(const char* scenario) {
 TEST(Resume, WithMeshContactsTheRunEndsBitIdentical) {
   for (const char* scenario : {"mesh_hopper.toml", "mesh_mixer.toml", "mesh_mixer_reverses.toml"})
     resume_bit_identical(scenario);
+}
+// The mixer with block steps: the particles' own times and Hermite state, and the contacts
+// with the turning paddle, resume as the uninterrupted run.
+TEST(Resume, WithMeshContactsTheRunEndsBitIdentical_BlockSteps) {
+  resume_bit_identical("mesh_mixer.toml", {"simulation.integrator=\"block_hermite\""});
 }
 
 // A belt that stops (tests/scenarios/belt_stops.toml, surface_motion in stretches): a run

@@ -2,7 +2,8 @@
 // mesh of many triangles, at a face, an edge or a vertex and at any angle, with the velocity
 // and spin it has off the plane; it rolls across the mesh's shared edges with the plane's
 // force at every step (its tangential spring carried from triangle to triangle); a grazing
-// impact on a ridge or a corner gains no energy.
+// impact on a ridge or a corner gains no energy. With block steps too where the integrator
+// is a parameter (MeshWallBlockSteps.*).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,12 +26,8 @@ std::shared_ptr<const TriangleMesh> plate(int n, double h) {
   return std::make_shared<const TriangleMesh>(testing::plate(n, h, [half](const Vec3& a) { return a - Vec3{half, half, 0}; }));
 }
 
-Wall mesh_wall(std::shared_ptr<const TriangleMesh> mesh) {
-  Wall w;
-  w.shape = WallShape::mesh;
-  w.mesh = std::move(mesh);
-  return w;
-}
+using testing::mesh_wall;
+using testing::pyramid;
 
 Wall floor_plane() {
   Wall w;
@@ -38,20 +35,23 @@ Wall floor_plane() {
   return w;
 }
 
-// A ball of glass from x with velocity v and spin w against `wall`, under the law; the
-// simulation, started.
+// A ball of glass from x with velocity v and spin w against `wall`, under the law, with the
+// integrator at dt (velocity Verlet at 1 us unless given); the simulation, started.
 std::unique_ptr<Simulation> ball(const Wall& wall, const ContactSpec& law, const Vec3& x, const Vec3& v, const Vec3& w,
-                                 const Vec3& gravity = {}) {
-  auto [world, model] = testing::make_world({"glass", 2500, 1e8, 0.3}, law, 1e-6, gravity);
+                                 const Vec3& gravity = {}, Integrator integrator = Integrator::velocity_verlet,
+                                 double dt = 1e-6) {
+  auto [world, model] = testing::make_world({"glass", 2500, 1e8, 0.3}, law, dt, gravity);
   world.walls.push_back(wall);
   world.particles.add(0, 0, 2 * kR, 2500, x, v);
   world.particles.omega[0] = w;
-  auto sim = std::make_unique<Simulation>(std::move(world), std::move(model), Integrator::velocity_verlet, BlockStepRules{});
+  auto sim = std::make_unique<Simulation>(std::move(world), std::move(model), integrator, BlockStepRules{});
   sim->start();
   return sim;
 }
 
-TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
+// Velocity Verlet at 1 us, block steps of 0.1 ms: the same path on the mesh as on the plane
+// (the same steps), to round-off, sampled every 0.5 ms over 3 ms.
+void rebounds_as_off_the_plane(Integrator integrator, double dt) {
   const double h = 0.002;  // triangles smaller than the ball: it touches several at once
   const auto mesh = plate(20, h);
   const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
@@ -66,10 +66,13 @@ TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
       const Vec3 hit{a * h, b * h, kR};
       const Vec3 x = hit - (fall / -v.z) * v;
       const Vec3 spin{5, -3, 2};
-      auto on_mesh = ball(mesh_wall(mesh), law, x, v, spin), on_plane = ball(floor_plane(), law, x, v, spin);
-      for (int step = 500; step <= 3000; step += 500) {
+      auto on_mesh = ball(mesh_wall(mesh), law, x, v, spin, {}, integrator, dt);
+      auto on_plane = ball(floor_plane(), law, x, v, spin, {}, integrator, dt);
+      for (int k = 1; k <= 6; ++k) {
+        const std::int64_t step = std::llround(k * 5e-4 / dt);
         on_mesh->advance_to(step), on_plane->advance_to(step);
         const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
+        ASSERT_EQ(on_mesh->particle_force_evaluations(), on_plane->particle_force_evaluations());
         ASSERT_LT(norm(p.position[0] - q.position[0]), 1e-15) << a << ", " << b << ", " << degrees << " degrees, step " << step;
         ASSERT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-12) << a << ", " << b << ", " << degrees << " degrees";
         ASSERT_LT(norm(p.omega[0] - q.omega[0]), 1e-9) << a << ", " << b << ", " << degrees << " degrees";
@@ -79,6 +82,13 @@ TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
       ++cases;
     }
   EXPECT_EQ(cases, 20);
+}
+
+TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
+  rebounds_as_off_the_plane(Integrator::velocity_verlet, 1e-6);
+}
+TEST(MeshWallBlockSteps, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
+  rebounds_as_off_the_plane(Integrator::block_hermite, 1e-4);
 }
 
 // A ball rolling under gravity across a mesh of small triangles crosses dozens of shared
@@ -109,19 +119,13 @@ TEST(MeshWall, ABallRollsAcrossSharedEdgesWithThePlanesForceAtEveryStep) {
   EXPECT_LT(norm(p.omega[0] - q.omega[0]), 1e-8);
 }
 
-// A roof of two faces sloping down at 20 degrees from a ridge along y, and a pyramid's apex:
-// convex edges and a convex corner.
+// A roof of two faces sloping down at 20 degrees from a ridge along y (and the pyramid's
+// apex, testing::pyramid): convex edges and a convex corner.
 std::shared_ptr<const TriangleMesh> roof() {
   const double s = -std::tan(20 * M_PI / 180) * 0.01;
   return std::make_shared<const TriangleMesh>(
       std::vector<Vec3>{{0, -0.01, 0}, {0, 0.01, 0}, {0.01, -0.01, s}, {0.01, 0.01, s}, {-0.01, -0.01, s}, {-0.01, 0.01, s}},
       std::vector<std::array<std::uint32_t, 3>>{{{0, 2, 3}}, {{0, 3, 1}}, {{0, 1, 5}}, {{0, 5, 4}}});
-}
-std::shared_ptr<const TriangleMesh> pyramid() {
-  const double s = -std::tan(20 * M_PI / 180) * 0.01;
-  return std::make_shared<const TriangleMesh>(
-      std::vector<Vec3>{{0, 0, 0}, {0.01, -0.01, s}, {0.01, 0.01, s}, {-0.01, 0.01, s}, {-0.01, -0.01, s}},
-      std::vector<std::array<std::uint32_t, 3>>{{{0, 1, 2}}, {{0, 2, 3}}, {{0, 3, 4}}, {{0, 4, 1}}});
 }
 
 // Elastic (restitution 1) and frictionless, a ball grazing over a ridge or an apex, across
@@ -174,20 +178,29 @@ TEST(MeshWall, TheMeshHopperGivesTheSameBitsForOneAndTwoThreads) {
 
 // A ball resting on a flat mesh that turns about its normal, and on a plane whose surface
 // turns so (a turntable): the same path, to round-off (the mesh's geometry turns, the plane's
-// does not, but a flat surface turning in itself is the same surface).
-TEST(MeshWall, AFlatMeshTurningInItsPlaneIsATurntable) {
+// does not, but a flat surface turning in itself is the same surface). Velocity Verlet at
+// 1 us, block steps of 0.1 ms.
+void turns_as_a_turntable(Integrator integrator, double dt) {
   const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
   const Vec3 g{0, 0, -9.81}, x{0.02, 0.005, kR - 2e-6}, omega{0, 0, 3};
   Wall disk = mesh_wall(plate(20, 0.004)), turntable = floor_plane();
   disk.turn_at(omega), turntable.angular_velocity = omega;
-  auto on_mesh = ball(disk, law, x, {}, {}, g), on_plane = ball(turntable, law, x, {}, {}, g);
-  on_mesh->advance_to(100000), on_plane->advance_to(100000);  // 0.1 s: the ball is dragged round
+  auto on_mesh = ball(disk, law, x, {}, {}, g, integrator, dt), on_plane = ball(turntable, law, x, {}, {}, g, integrator, dt);
+  const std::int64_t steps = std::llround(0.1 / dt);  // 0.1 s: the ball is dragged round
+  on_mesh->advance_to(steps), on_plane->advance_to(steps);
   const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
   std::printf("moved %.4g m at %.4g m/s; mesh - plane: %.3g m, %.3g m/s\n", norm(q.position[0] - x), norm(q.velocity[0]),
               norm(p.position[0] - q.position[0]), norm(p.velocity[0] - q.velocity[0]));
   EXPECT_GT(norm(q.velocity[0]), 0.01);
   EXPECT_LT(norm(p.position[0] - q.position[0]), 1e-12);
   EXPECT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-10);
+}
+
+TEST(MeshWall, AFlatMeshTurningInItsPlaneIsATurntable) {
+  turns_as_a_turntable(Integrator::velocity_verlet, 1e-6);
+}
+TEST(MeshWallBlockSteps, AFlatMeshTurningInItsPlaneIsATurntable) {
+  turns_as_a_turntable(Integrator::block_hermite, 1e-4);
 }
 
 // The same in stretches of time (surface_motion): the turntable turns one way, then back,
@@ -221,8 +234,9 @@ TEST(MeshWall, AFlatMeshTurningInStretchesIsATurntableInStretches) {
 
 // A paddle (a vertical plate of triangles from the axis outwards) turning at omega about z
 // hits a ball at rest at a distance rho from the axis: elastic and frictionless, the ball
-// leaves with twice the paddle's speed where it hits, omega sqrt(rho^2 - r^2), across the paddle.
-TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
+// leaves with twice the paddle's speed where it hits, omega sqrt(rho^2 - r^2), across the
+// paddle. Velocity Verlet at 1 us, block steps of 1 ms (the paddle's normal turning).
+void paddle_kicks_a_ball_away(Integrator integrator, double dt) {
   std::vector<Vec3> v;
   std::vector<std::array<std::uint32_t, 3>> t;
   for (int j = 0; j <= 2; ++j)
@@ -236,8 +250,8 @@ TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
   paddle.turn_at({0, 0, 2});
   const double rho = 0.03;
   const Vec3 x{rho * std::cos(0.3), rho * std::sin(0.3), 0};
-  auto sim = ball(paddle, testing::spec_of("hertz_tsuji", "none", 1.0), x, {}, {});
-  sim->advance_to(300000);  // 0.3 s: the paddle turns 0.6 rad, past the ball
+  auto sim = ball(paddle, testing::spec_of("hertz_tsuji", "none", 1.0), x, {}, {}, {}, integrator, dt);
+  sim->advance_to(std::llround(0.3 / dt));  // 0.3 s: the paddle turns 0.6 rad, past the ball
   const Particles& p = sim->world().particles;
   const double expected = 2 * 2 * std::sqrt(rho * rho - kR * kR);
   std::printf("speed %.6g m/s, expected %.6g m/s\n", norm(p.velocity[0]), expected);
@@ -245,16 +259,57 @@ TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
   EXPECT_EQ(p.contact_count[0], 0);
 }
 
+TEST(MeshWall, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
+  paddle_kicks_a_ball_away(Integrator::velocity_verlet, 1e-6);
+}
+TEST(MeshWallBlockSteps, ATurningPaddleKicksABallAwayAtTwiceItsSpeed) {
+  paddle_kicks_a_ball_away(Integrator::block_hermite, 1e-3);
+}
+
+// A frictionless ball sliding slowly along a flat mesh reaches its outer edge and goes over
+// it: its centre circles the edge until the edge's push ends, where g cos(theta) = v^2 / r
+// with v^2 = v0^2 + 2 g r (1 - cos theta): cos(theta) = (2 + v0^2 / (g r)) / 3, for a point on
+// the circle (the overlap makes r 1e-4 shorter), and it flies on at v cos(theta) across.
+// Block steps (0.2 ms) give velocity Verlet's (1 us) flight: the edge's normal turns under the
+// ball, with its rate.
+TEST(MeshWallBlockSteps, ABallGoesOverAMeshsEdgeAsVelocityVerletHasIt) {
+  const Vec3 g{0, 0, -9.81}, v0{0.05, 0, 0};
+  const double gr = 9.81 * kR, c = (2 + norm2(v0) / gr) / 3, expected = std::sqrt(norm2(v0) + 2 * gr * (1 - c)) * c;
+  auto flight = [&](Integrator integrator, double dt) {
+    // The plate from x = -0.02 to 0.02: its edge at x = 0.02; the ball 5 mm before it, the
+    // dashpot damping its first bounces.
+    auto sim = ball(mesh_wall(plate(10, 0.004)), testing::spec_of("hertz_tsuji", "none", 0.5), {0.015, 0.001, kR - 1e-7}, v0,
+                    {}, g, integrator, dt);
+    sim->advance_to(std::llround(0.3 / dt));  // over the edge by 0.2 s, then falling
+    return sim->world().particles;
+  };
+  const Particles block = flight(Integrator::block_hermite, 2e-4), verlet = flight(Integrator::velocity_verlet, 1e-6);
+  std::printf("flies on at %.6f m/s (block steps), %.6f m/s (velocity Verlet), off a point on the circle %.6f m/s; "
+              "block - Verlet %.3g m\n",
+              block.velocity[0].x, verlet.velocity[0].x, expected, norm(block.position[0] - verlet.position[0]));
+  EXPECT_LT(verlet.position[0].z, -0.01);  // it went over
+  EXPECT_NEAR(verlet.velocity[0].x, expected, 0.01 * expected);
+  EXPECT_NEAR(block.velocity[0].x, verlet.velocity[0].x, 1e-3 * expected);
+  EXPECT_LT(norm(block.position[0] - verlet.position[0]), 1e-5);
+}
+
 // The mixer (tests/scenarios/mesh_mixer.toml): a paddle turning through a bed; 1 and 2
-// threads, the same bits.
-TEST(MeshWall, TheMixerGivesTheSameBitsForOneAndTwoThreads) {
-  const Scenario sc = testing::test_scenario("mesh_mixer.toml", {"search.sort_every=100"});
+// threads, the same bits; velocity Verlet, and block steps for 0.05 s.
+void mixer_same_bits(const std::vector<std::string>& settings) {
+  const Scenario sc = testing::test_scenario("mesh_mixer.toml", settings);
   const World one = testing::run_scenario(sc, 1), two = testing::run_scenario(sc, 2);
   std::size_t paddle = 0;
   for (const Contact& c : one.contacts.walls()) paddle += c.touching && one.wall_of(c.j) == 1;
   std::printf("%zu grains touching the paddle at the end\n", paddle);
   EXPECT_GT(paddle, 3u);
   EXPECT_TRUE(testing::same_particle_bits(one, two));
+}
+
+TEST(MeshWall, TheMixerGivesTheSameBitsForOneAndTwoThreads) {
+  mixer_same_bits({"search.sort_every=100"});
+}
+TEST(MeshWallBlockSteps, TheMixerGivesTheSameBitsForOneAndTwoThreads) {
+  mixer_same_bits({"simulation.integrator=\"block_hermite\"", "simulation.duration=0.05"});
 }
 
 }  // namespace

@@ -64,33 +64,39 @@ T with_rate(double x, double rate) {
   else return Dual(x, rate);
 }
 
-// Where the particle `a` touches `wall` (t, found on double) on the number type: on Dual with
-// the rates of the distance and the normal. A whole plane's normal stands still and its
-// distance changes at the particle's velocity along it relative to the surface's (v_rel); a
-// curved wall's (a cylinder, a cone, a hole's rim) is the touch on Dual of the centre moving
-// relative to the wall (Wall::touch_on).
+// Where the particle `a` touches `wall` (t, found on double; on a mesh at its nearest feature
+// `kind`, an edge's index `edge`) on the number type: on Dual with the rates of the distance
+// and the normal. A whole plane's normal stands still and its distance changes at the
+// particle's velocity along it relative to the surface's (v_rel); a curved wall's (a
+// cylinder, a cone, a hole's rim) is the touch on Dual of the centre moving relative to the
+// wall (Wall::touch_on); a mesh's follows its nearest feature (touch_triangle_with_rates).
 template <class T, class Motion>
-BasicWallTouch<T> touch_with_rates(const Wall& wall, const Motion& a, const WallTouch& t, const Vector<T>& v_rel) {
+BasicWallTouch<T> touch_with_rates(const Wall& wall, const Motion& a, const WallTouch& t, const Vector<T>& v_rel,
+                                   NearestFeature::Kind kind = NearestFeature::face, std::uint32_t edge = 0) {
   if constexpr (std::is_same_v<T, double>) return t;
   else if (wall.whole_plane()) return {Dual(t.distance, dot(value(v_rel), t.normal)), t.normal};
+  else if (wall.mesh) return touch_triangle_with_rates(wall, kind, edge, t, a.x, value(a.v));
   else return wall.touch_on<Dual>(DualVec3(a.x, value(a.v) - wall.velocity));
 }
 
 // The velocity of a wall's surface under the particle `a` (Wall::surface_velocity_at, t its
-// touch); on Dual with its rate: the wall's own velocity is constant within a step, a turning
-// surface's changes as the point under the particle moves: on a whole plane with the
-// particle's velocity, on a curved wall with the rate of the nearest point, x - distance
-// normal (`moving`: the touch with its rates).
+// touch, kind and edge as above); on Dual with its rate: the wall's own velocity is constant
+// within a step, a turning surface's changes as the point under the particle moves: on a
+// whole plane with the particle's velocity, on a curved wall or a mesh with the rate of the
+// nearest point, x - distance normal (`moving`: the touch with its rates), relative to the
+// axis (which moves with a mesh).
 template <class T, class Motion>
-Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t) {
+Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t,
+                           NearestFeature::Kind kind = NearestFeature::face, std::uint32_t edge = 0) {
   if constexpr (std::is_same_v<T, double>) {
     return wall.surface_velocity_at(a.x, t);
   } else {
     const Vec3 u = wall.surface_velocity_at(a.x, t);
     if (!wall.surface_moves()) return DualVec3(u, {});
     if (wall.whole_plane()) return DualVec3(u, cross(wall.angular_velocity, value(a.v)));
-    const BasicWallTouch<Dual> moving = wall.touch_on<Dual>(DualVec3(a.x, value(a.v) - wall.velocity));
-    return DualVec3(u, cross(wall.angular_velocity, rate(DualVec3(a.x, value(a.v)) - moving.distance * moving.normal)));
+    const BasicWallTouch<Dual> moving = touch_with_rates<Dual>(wall, a, t, DualVec3{}, kind, edge);
+    const Vec3 nearest_point_rate = rate(DualVec3(a.x, value(a.v)) - moving.distance * moving.normal);
+    return DualVec3(u, cross(wall.angular_velocity, wall.mesh ? nearest_point_rate - wall.velocity : nearest_point_rate));
   }
 }
 
@@ -349,11 +355,13 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const Wall& wall = world.walls[wall_of_contact(world, k)];
   const double r = p.radius[i];
   const auto a = state.at(i);
-  // With meshes (fixed steps), where it touches was found before (touch_walls).
+  // With meshes, where it touches was found before (touch_walls, touch_particle_walls).
   const bool found = !world.wall_elements.empty();
   const WallTouch touch = found ? wall_touch_[k].touch : wall.touch(a.x);
+  const NearestFeature::Kind kind = found ? wall_touch_[k].kind : NearestFeature::face;
+  const std::uint32_t feature = found ? wall_touch_[k].feature : 0;
   const Vec3& n = touch.normal;
-  const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a, touch);
+  const Vector<T> v_rel = a.v - surface_velocity<T>(wall, a, touch, kind, feature);
   const double dist = touch.distance;
   // Touching from the front side only: a centre behind the surface has tunnelled through and
   // feels no force from it. A mesh's triangle may leave the contact to another (world/mesh.hpp).
@@ -364,7 +372,8 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
       const double opening = dot(value(v_rel), n);
       const double released = was_touching ? release_age(dist - r, opening) : 0;
-      const double bound = dist > 0 ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
+      const bool gap = dist > 0 && (!found || wall_touch_[k].counts);  // a mesh's triangle that does not count has none
+      const double bound = gap ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
                                                    -dot(rate(v_rel), n))
                                     : std::numeric_limits<double>::infinity();
       wall_rates_[k] = {{}, {}, 0, bound, n, 0, 0, 0, released};
@@ -375,7 +384,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
     if (rolls_) wall_results_.rolling_i[k] = {};
     return;
   }
-  const BasicWallTouch<T> moving = touch_with_rates<T>(wall, a, touch, v_rel);
+  const BasicWallTouch<T> moving = touch_with_rates<T>(wall, a, touch, v_rel, kind, feature);
   BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], moving.normal, moving.distance, v_rel, a.w);
   g.dt = state.step(i);
   if (rolls_) g.rolling_inertia = rolling_inertia(p, i);

@@ -91,7 +91,12 @@ bool ForceField::needs_rebuild(const World& world) const {
       moved[static_cast<std::size_t>(t)] = norm2(world.domain.separation(p.position[i], built_at_[i])) > limit2;
   });
   if (std::find(moved.begin(), moved.end(), 1) != moved.end()) return true;
+  return walls_moved(world);
+}
+
+bool ForceField::walls_moved(const World& world) const {
   if (walls_built_at_.size() != world.walls.size()) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
   for (std::size_t w = 0; w < world.walls.size(); ++w) {
     const Wall& wall = world.walls[w];
     double shift = norm(wall.point - walls_built_at_[w]);  // moving walls
@@ -102,6 +107,12 @@ bool ForceField::needs_rebuild(const World& world) const {
     if (shift * shift > limit2) return true;
   }
   return false;
+}
+
+void ForceField::record_walls(const World& world) {
+  walls_built_at_.clear();
+  walls_turn_at_.clear();
+  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point), walls_turn_at_.emplace_back(w.turn_cos, w.turn_sin);
 }
 
 double ForceField::skin_of(const World& world) const {
@@ -118,9 +129,7 @@ void ForceField::rebuild(World& world) {
   skin_ = skin_of(world);
   build_lists(world, p, skin_, {}, false);
   built_at_ = p.position;
-  walls_built_at_.clear();
-  walls_turn_at_.clear();
-  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point), walls_turn_at_.emplace_back(w.turn_cos, w.turn_sin);
+  record_walls(world);
 }
 
 void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, const std::vector<double>& reach,
@@ -133,6 +142,7 @@ void ForceField::rebuild_at(World& world, const std::vector<Vec3>& positions, co
   for (std::size_t i = 0; i < p.size(); ++i) probe.radius[i] = p.radius[i] + reach[i];
   build_lists(world, probe, skin_, wall_reach, true);
   built_at_.clear();  // compute() would rebuild: block steps decide when lists are stale
+  record_walls(world);
 }
 
 void ForceField::build_lists(World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
@@ -200,12 +210,7 @@ void ForceField::grid_meshes(const World& world, const Particles& probe, double 
     const TriangleMesh* mesh = world.walls[w].mesh.get();
     if (!mesh) continue;
     mesh_grids_[w].emplace(*mesh, TriangleGrid::cell_for(*mesh, widest));
-    const Wall& wall = world.walls[w];  // a turning mesh's farthest vertex from its axis
-    const Vec3& k = wall.turn_axis;
-    for (const Vec3& v : mesh->vertices()) {
-      const Vec3 off = v - wall.axis_offset;
-      mesh_reach_[w] = std::max(mesh_reach_[w], k == Vec3{} ? 0.0 : norm(off - dot(off, k) * k));
-    }
+    mesh_reach_[w] = turning_reach(world.walls[w]);
   }
 }
 
@@ -267,25 +272,29 @@ void ForceField::evaluate_walls(World& world) {
 }
 
 void ForceField::touch_walls(World& world) {
-  const std::vector<Contact>& contacts = world.contacts.walls();
-  wall_touch_.resize(contacts.size());
+  wall_touch_.resize(world.contacts.walls().size());
   parallel_for(world.owned(), [&](std::size_t i) {
-    // A particle's wall contacts are in the order of their elements, so those with one wall
-    // are a run of them: [first, last).
-    const auto [begin, end] = world.contacts.walls_of(i);
-    for (std::uint32_t first = begin; first < end;) {
-      const std::uint32_t w = world.wall_of(contacts[first].j);
-      std::uint32_t last = first + 1;
-      while (last < end && contacts[last].j < world.wall_elements[w + 1]) ++last;
-      touch_wall(world, i, w, first, last);
-      first = last;
-    }
+    touch_particle_walls(world, i, world.particles.position[i], world.particles.radius[i]);
   });
 }
 
-void ForceField::touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last) {
+void ForceField::touch_particle_walls(World& world, std::size_t i, const Vec3& x, double reach) {
+  // A particle's wall contacts are in the order of their elements, so those with one wall are
+  // a run of them: [first, last).
+  const std::vector<Contact>& contacts = world.contacts.walls();
+  const auto [begin, end] = world.contacts.walls_of(i);
+  for (std::uint32_t first = begin; first < end;) {
+    const std::uint32_t w = world.wall_of(contacts[first].j);
+    std::uint32_t last = first + 1;
+    while (last < end && contacts[last].j < world.wall_elements[w + 1]) ++last;
+    touch_wall(world, i, w, first, last, x, reach);
+    first = last;
+  }
+}
+
+void ForceField::touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last,
+                            const Vec3& position, double reach) {
   const Wall& wall = world.walls[w];
-  const Vec3& position = world.particles.position[i];
   if (!wall.mesh) {  // an analytic wall: one element, one contact
     wall_touch_[first] = {wall.touch(position), w, true};
     return;
@@ -299,7 +308,9 @@ void ForceField::touch_wall(World& world, std::size_t i, std::uint32_t w, std::u
     e.wall = w;
     // Surely out of reach, a triangle does not count (TriangleMesh::touch): its contact does not
     // touch whether it counts or not, nor does one at the same point after it (below).
-    e.counts = touch_triangle(wall, contacts[k].j - first_element, x, r, e.touch);
+    NearestFeature feature;
+    e.counts = touch_triangle(wall, contacts[k].j - first_element, x, reach, e.touch, &feature);
+    e.kind = feature.kind, e.feature = feature.index;
     // The same point of the mesh as a contact before it (round-off at a flat mesh's vertex):
     // one contact, the first.
     for (std::uint32_t before = first; before < k && e.counts; ++before)

@@ -185,6 +185,9 @@ class ForceField {
   bool distributed() const { return neighbourhood_ != nullptr; }
   Neighbourhood* neighbourhood() const { return neighbourhood_; }
   double skin() const { return skin_; }
+  // Whether a wall has moved (a mesh: moved and turned its farthest vertex) by more than half
+  // the skin since the lists were built.
+  bool walls_moved(const World& world) const;
   // The neighbour-list margin for a world: Model::skin, or a tenth of the smallest diameter.
   double skin_of(const World& world) const;
   // The neighbour-list margin for particles whose smallest radius is `smallest_radius`.
@@ -283,6 +286,8 @@ class ForceField {
     WallTouch touch;
     std::uint32_t wall = 0;
     bool counts = false;
+    NearestFeature::Kind kind = NearestFeature::face;  // on a mesh, the nearest feature (for the rates)
+    std::uint32_t feature = 0;
   };
   std::vector<std::optional<TriangleGrid>> mesh_grids_;
   std::vector<double> mesh_reach_;  // m, per wall: a turning mesh's farthest vertex from its axis
@@ -296,6 +301,7 @@ class ForceField {
   bool keeps_records_ = false;  // the lists' records outlive a list change (block steps' builds)
 
   bool needs_rebuild(const World& world) const;
+  void record_walls(const World& world);  // where the walls are at a build (walls_moved)
   void rebuild(World& world);
   // The lists from `probe` (positions and radii, grown by each particle's reach) and the
   // margin; histories carried over, and with keep_records the contact records and rates too
@@ -308,13 +314,17 @@ class ForceField {
   void find_wall_contacts(const World& world, const Particles& probe, double margin, const std::vector<double>& wall_reach,
                           std::vector<Pair>& out);
   void grid_meshes(const World& world, const Particles& probe, double margin);
-  // Fixed steps with meshes, before the wall contacts are evaluated: where each touches
-  // (wall_touch_), one of a particle's contacts at the same point of a mesh counted, and a
-  // contact that begins on a mesh taking the history of one of the same mesh that ends (a
-  // grain rolling from triangle to triangle keeps its spring). touch_wall does it for
-  // particle i's contacts first .. last - 1 with wall w.
+  // With meshes, before the wall contacts are evaluated: where each touches (wall_touch_), one
+  // of a particle's contacts at the same point of a mesh counted, and a contact that begins
+  // on a mesh taking the history of one of the same mesh that ends (a grain rolling from
+  // triangle to triangle keeps its spring). touch_walls does it for every particle at its
+  // position (fixed steps), touch_particle_walls for particle i centred at x, asking about
+  // triangles within `reach` of x (INFINITY: every listed one, for the step rules' gaps),
+  // touch_wall for its contacts first .. last - 1 with wall w.
   void touch_walls(World& world);
-  void touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last);
+  void touch_particle_walls(World& world, std::size_t i, const Vec3& x, double reach);
+  void touch_wall(World& world, std::size_t i, std::uint32_t w, std::uint32_t first, std::uint32_t last, const Vec3& x,
+                  double reach);
   // The wall of wall contact k: its element's with meshes (found by touch_walls), else the
   // element itself.
   std::uint32_t wall_of_contact(const World& world, std::size_t k) const {

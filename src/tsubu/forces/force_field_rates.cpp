@@ -30,6 +30,14 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   // particles are disjoint, so the active list can be split between threads. An active
   // particle's pairs go in blocks, each pair with its own law.
   const PredictedState state{kin};
+  // With meshes, where the active particles touch the walls at the predicted positions: every
+  // listed triangle asked (its gap for the step rules), not only those within the radius.
+  if (!world.wall_elements.empty()) {
+    wall_touch_.resize(walls.size());
+    parallel_for(active.size(), [&](std::size_t q) {
+      touch_particle_walls(world, active[q], kin.at(active[q]).x, INFINITY);
+    });
+  }
   parallel_for(active.size(), [&](std::size_t q) {
     std::uint32_t block[kBlock];
     std::size_t m = 0;

@@ -268,8 +268,6 @@ void BlockHermite::resume(World& world, ForceField& forces, HermiteState state, 
 void BlockHermite::build_lists(World& world, ForceField& forces) {
   forces.rebuild_at(world, list_positions_, list_reach_, wall_reach(world));
   list_skin_ = forces.skin();
-  walls_built_at_.clear();
-  for (const Wall& w : world.walls) walls_built_at_.push_back(w.point);
 }
 
 void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t t) {
@@ -295,8 +293,11 @@ void BlockHermite::rebuild_lists(World& world, ForceField& forces, std::int64_t 
 std::vector<double> BlockHermite::wall_reach(const World& world) const {
   // How far a wall can travel in the list horizon: a grain it could reach before the lists
   // are next checked is listed, so that its gap rule sees the wall coming.
+  // A turning mesh's surface moves at up to its angular velocity times its farthest vertex's
+  // distance from the axis besides.
   std::vector<double> reach;
-  for (const Wall& w : world.walls) reach.push_back(w.top_speed() * rules_.list_horizon * world.dt);
+  for (const Wall& w : world.walls)
+    reach.push_back((w.top_speed() + norm(w.angular_velocity) * turning_reach(w)) * rules_.list_horizon * world.dt);
   return reach;
 }
 
@@ -314,8 +315,8 @@ double BlockHermite::until_wall_event(const World& world, std::uint32_t i, std::
   // step (a grain 7.8 um above it flung off at 11 m/s).
   const double now = static_cast<double>(t) * tick(world);
   double until = kNever;
-  world.contacts.for_each_wall_of(i, [&](std::uint32_t w, std::uint32_t) {
-    until = std::min(until, world.walls[w].next_change(now) - now);
+  world.contacts.for_each_wall_of(i, [&](std::uint32_t element, std::uint32_t) {
+    until = std::min(until, world.walls[world.wall_of(element)].next_change(now) - now);
   });
   return until;
 }
@@ -644,8 +645,7 @@ void BlockHermite::advance(World& world, ForceField& forces) {
     for (Wall& w : world.walls) w.advance(static_cast<double>(now) * dt_tick, static_cast<double>(t - now) * dt_tick);
     walls_at(world, t);
     world.time = static_cast<double>(t) * dt_tick;
-    for (std::size_t w = 0; w < world.walls.size() && !lists_stale_; ++w)
-      lists_stale_ = norm2(world.walls[w].point - walls_built_at_[w]) > 0.25 * forces.skin() * forces.skin();
+    lists_stale_ = lists_stale_ || forces.walls_moved(world);
     collect_active(t);
     const Predictor kin = predictor(world, t);
     for (std::size_t q = 0; q < active_.size() && !lists_stale_; ++q) lists_stale_ = list_outrun(world, kin, active_[q]);

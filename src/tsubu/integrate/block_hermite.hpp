@@ -111,7 +111,6 @@ class BlockHermite {
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
   double list_skin_ = 0;
-  std::vector<Vec3> walls_built_at_;
 
   double tick(const World& world) const;
   // The Predictor of block time `now`, reading the predictions predict_around() made then.

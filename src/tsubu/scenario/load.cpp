@@ -372,10 +372,13 @@ Vec3 turning_rate(Section& s) {
   return omega;
 }
 
-void read_mesh_turning(Section& s, Wall& w) {
+void read_mesh_turning(Section& s, const Scenario& sc, Wall& w) {
   if (s.has("surface_motion")) {
     if (s.has("angular_velocity"))
       s.fail("angular_velocity", "give the mesh's turning either as a constant angular_velocity or as surface_motion stretches, not both");
+    if (sc.integrator == Integrator::block_hermite)
+      s.fail("surface_motion", "needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or \"symplectic_euler\"); "
+                               "block steps take a mesh turning at a constant angular_velocity only yet");
     double previous = 0;
     for (Section m : s.tables("surface_motion")) {
       SurfaceMotion stretch;
@@ -399,14 +402,10 @@ void read_mesh_turning(Section& s, Wall& w) {
 
 // A triangle mesh (shape = "mesh") from an STL or OBJ file (io/mesh_file.hpp), in `units`,
 // scaled, turned about an axis through the origin and moved by `translate`, in that order;
-// it may move with `motion` as a plane does. The fixed steps only: the evaluation's touch
-// pre-pass (ForceField::touch_walls) is theirs.
+// it may move with `motion` as a plane does, and turn.
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
   refuse_with_curved_walls(s, sc, "shape", "a mesh");
-  if (sc.integrator == Integrator::block_hermite)  // the step's touch pre-pass and the hand-over are the fixed steps'
-    s.fail("shape", "a mesh needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
-                    "\"symplectic_euler\"); block steps take planes, cylinders and cones only yet");
   for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "surface_velocity"})
     if (s.has(key))
       s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "
@@ -464,7 +463,7 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
     s.fail("file", std::string("the mesh in ") + unit + ": " + e.what() + " (after scaling)");
   }
   read_motion(s, w);
-  read_mesh_turning(s, w);
+  read_mesh_turning(s, sc, w);
   w.axis_offset = s.vec3("center", {});
   sc.hash = fnv1a64(file_bytes(path), sc.hash);
 }

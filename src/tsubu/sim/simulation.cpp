@@ -11,7 +11,6 @@ Simulation::Simulation(World world, Model model, Integrator integrator, const Bl
     : model_(std::make_unique<const Model>(std::move(model))), world_(std::move(world)), integrator_(integrator) {
   if (integrator_ == Integrator::block_hermite) block_ = std::make_unique<BlockHermite>(block_steps);
   world_.index_wall_elements();  // the walls' contact partners (a mesh: its triangles)
-  if (block_ && !world_.wall_elements.empty()) throw std::logic_error("meshes with block steps (the scenario refuses them)");
   if (world_.domain.any_open()) {
     if (block_) throw std::logic_error("open faces with block steps (the scenario refuses them)");
     outflow_.emplace();

@@ -192,13 +192,14 @@ bool TriangleMesh::all_nearest(const std::vector<std::uint32_t>& start, const st
   return true;
 }
 
-bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out) const {
+bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature) const {
   if (!may_reach(t, x, r)) return false;
   const NearestFeature f = nearest(t, x);
   if (f.kind == NearestFeature::face) {  // its distance, the plane's, may_reach found within reach
     const double d = dot(x - vertices_[triangles_[t][0]], normal_[t]);
     if (d == 0) return false;
     out = {std::abs(d), d > 0 ? normal_[t] : -normal_[t]};
+    if (feature) *feature = f;
     return true;
   }
   const Vec3 from = x - f.point;
@@ -214,6 +215,7 @@ bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& ou
        !all_nearest(vertex_start_, vertex_triangles_, f.index, f.kind, f.index, t, x)))
     return false;
   out = {d, from / d};
+  if (feature) *feature = f;
   return true;
 }
 

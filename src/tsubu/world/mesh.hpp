@@ -85,8 +85,14 @@ class TriangleMesh {
   // Whether triangle t counts the contact of a ball of radius r centred at x (see above), and
   // if so where it touches: the distance of x from the nearest point and the unit normal from
   // there to x. False for a triangle surely out of the ball's reach (kReachMargin), which is
-  // not asked about further (r = INFINITY: none is).
-  bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out) const;
+  // not asked about further (r = INFINITY: none is). `feature`, where given, gets the nearest
+  // feature of a contact that counts (for the touch's rates: touch_triangle_with_rates).
+  bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature = nullptr) const;
+  // Edge e's unit direction, from its lower vertex index to its higher.
+  Vec3 edge_direction(std::uint32_t e) const {
+    const Vec3 d = vertices_[edge_vertices_[e][1]] - vertices_[edge_vertices_[e][0]];
+    return d / norm(d);
+  }
 
   // Whether triangles a and b share a vertex.
   bool adjacent(std::uint32_t a, std::uint32_t b) const {

@@ -18,10 +18,50 @@ namespace tsubu {
 // Where a particle of radius r centred at x, given in the mesh's frame (Wall::to_mesh),
 // touches triangle t of the mesh wall `wall`, its normal in the box's frame; false when the
 // triangle does not count the contact or is surely out of reach (TriangleMesh::touch).
-inline bool touch_triangle(const Wall& wall, std::uint32_t t, const Vec3& x, double r, WallTouch& out) {
-  if (!wall.mesh->touch(t, x, r, out)) return false;
+// `feature`, where given, gets the nearest feature (TriangleMesh::touch).
+inline bool touch_triangle(const Wall& wall, std::uint32_t t, const Vec3& x, double r, WallTouch& out,
+                           NearestFeature* feature = nullptr) {
+  if (!wall.mesh->touch(t, x, r, out, feature)) return false;
   out.normal = wall.from_mesh(out.normal);
   return true;
+}
+
+// The same touch t of a particle centred at x moving at v (the box's frame) with its rates,
+// its nearest feature `kind` (an edge: `edge`, the mesh's edge index) found at x. Relative to
+// the mesh, which moves at wall.velocity and turns at wall.angular_velocity about
+// point + axis_offset, the centre moves at u = v - velocity - omega x (x - axis point). The
+// distance from the nearest point p changes at u.n (p moves across n, if at all), and the
+// normal, n = (x - p)/d, at (I - n n)(u - p')/d, p' the nearest point's velocity along the
+// feature: on a face p follows the centre in the plane (the normal stands still), on an edge
+// it slides with u's part along the edge, at a vertex it stays; the mesh turning turns the
+// normal besides, at omega x n. Exact: docs/scenario.md, "Mesh walls".
+inline BasicWallTouch<Dual> touch_triangle_with_rates(const Wall& wall, NearestFeature::Kind kind, std::uint32_t edge,
+                                                      const WallTouch& t, const Vec3& x, const Vec3& v) {
+  const Vec3& omega = wall.angular_velocity;
+  const Vec3& n = t.normal;
+  const Vec3 u = v - wall.velocity - cross(omega, x - (wall.point + wall.axis_offset));
+  const double approach = dot(u, n);
+  Vec3 turn;  // the normal's rate relative to the mesh
+  if (kind == NearestFeature::edge) {
+    const Vec3 e = wall.from_mesh(wall.mesh->edge_direction(edge));
+    turn = (u - dot(u, e) * e - approach * n) / t.distance;
+  } else if (kind == NearestFeature::vertex) {
+    turn = (u - approach * n) / t.distance;
+  }
+  return {Dual(t.distance, approach), DualVec3(n, turn + cross(omega, n))};
+}
+
+// How far a turning mesh's farthest vertex is from the axis it turns about, m (0 for a wall
+// that does not turn so): the fastest its surface moves is that times its angular velocity.
+inline double turning_reach(const Wall& wall) {
+  const Vec3& k = wall.turn_axis;
+  double reach = 0;
+  if (!wall.mesh || k == Vec3{}) return reach;
+  for (const Vec3& v : wall.mesh->vertices()) {
+    const Vec3 off = v - wall.axis_offset;
+    reach = std::max(reach, norm(off - dot(off, k) * k));
+  }
+  return reach;
 }
 
 struct World {
