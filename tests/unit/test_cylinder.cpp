@@ -245,6 +245,27 @@ TEST(CurvedWallRates, ATurningDrumsSurfaceVelocityHasTheRateOfThePointUnderTheGr
   EXPECT_LT(norm(rate(s) - difference), 1e-7 * norm(difference));
 }
 
+// A plate with a hole, moving and turning about the hole's centre (which moves with it): the
+// surface's velocity on the rim under a moving grain has the rate of the rim point relative
+// to the moving axis, omega x (p' - V), the central difference along the path, the plate
+// moving with it.
+TEST(CurvedWallRates, AMovingTurningRimsSurfaceVelocityHasTheRateOfThePointUnderTheGrain) {
+  Wall plate = plate_with_hole();
+  plate.velocity = {0.2, -0.1, 0.3};
+  plate.angular_velocity = {0, 0, 4};
+  const Vec3 x{0.007, 0.001, 0.004}, v{0.4, 0.1, -0.3};
+  const DualVec3 s = surface_velocity<Dual>(plate, Motion<Dual>{x, DualVec3(v, {}), DualVec3()}, plate.touch(x));
+  const double h = 1e-6;
+  auto at = [&](double t) {
+    Wall moved = plate;
+    moved.point += t * plate.velocity;
+    return moved.surface_velocity_at(x + t * v);
+  };
+  const Vec3 difference = (at(h) - at(-h)) / (2 * h);
+  std::printf("rate |%.6g|, off the difference by %.3g\n", norm(rate(s)), norm(rate(s) - difference));
+  EXPECT_LT(norm(rate(s) - difference), 1e-7 * norm(difference));
+}
+
 // A ball with Mindlin friction set on the inside of a drum turning at 3 rad/s is dragged up
 // its side: block steps (dt = 0.2 ms) and velocity Verlet (dt = 1 us) give the same path over
 // 0.2 s to within the fixed step's error (the surface's velocity and the normal turning under

@@ -84,7 +84,7 @@ BasicWallTouch<T> touch_with_rates(const Wall& wall, const Motion& a, const Wall
 // within a step, a turning surface's changes as the point under the particle moves: on a
 // whole plane with the particle's velocity, on a curved wall or a mesh with the rate of the
 // nearest point, x - distance normal (`moving`: the touch with its rates), relative to the
-// axis (which moves with a mesh).
+// axis, which moves with the wall.
 template <class T, class Motion>
 Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t,
                            NearestFeature::Kind kind = NearestFeature::face, std::uint32_t edge = 0) {
@@ -96,7 +96,7 @@ Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t
     if (wall.whole_plane()) return DualVec3(u, cross(wall.angular_velocity, value(a.v)));
     const BasicWallTouch<Dual> moving = touch_with_rates<Dual>(wall, a, t, DualVec3{}, kind, edge);
     const Vec3 nearest_point_rate = rate(DualVec3(a.x, value(a.v)) - moving.distance * moving.normal);
-    return DualVec3(u, cross(wall.angular_velocity, wall.mesh ? nearest_point_rate - wall.velocity : nearest_point_rate));
+    return DualVec3(u, cross(wall.angular_velocity, nearest_point_rate - wall.velocity));
   }
 }
 
@@ -366,14 +366,14 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   // Touching from the front side only: a centre behind the surface has tunnelled through and
   // feels no force from it. A mesh's triangle may leave the contact to another (world/mesh.hpp).
   const bool was_touching = c.touching;
-  c.touching = dist < r && dist > 0 && (!found || wall_touch_[k].counts);
+  const bool counts = !found || wall_touch_[k].counts;  // a mesh's triangle may not count it
+  c.touching = dist < r && dist > 0 && counts;
   if (!c.touching) {
     c.history = {};
     if constexpr (kRates) {  // the rate channel: the step bound of a grain in front of the wall
       const double opening = dot(value(v_rel), n);
       const double released = was_touching ? release_age(dist - r, opening) : 0;
-      const bool gap = dist > 0 && (!found || wall_touch_[k].counts);  // a mesh's triangle that does not count has none
-      const double bound = gap ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
+      const double bound = dist > 0 && counts ? contact_step(normal, *rules, p.mass[i], r, false, -opening, 0, dist - r,
                                                    -dot(rate(v_rel), n))
                                     : std::numeric_limits<double>::infinity();
       wall_rates_[k] = {{}, {}, 0, bound, n, 0, 0, 0, released};
