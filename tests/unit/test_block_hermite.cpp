@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string_view>
 #include <vector>
@@ -396,39 +397,51 @@ TEST(BlockHermite, StepRulesThatUnderflowGiveTheFinestLevel) {
   }
 }
 
-// Central difference of the force along x(t) = x0 + v t + a t^2/2, spin w(t) = w0 + alpha t,
-// against the exact rate from the law run on Duals. The spring starts from the same state on
-// both sides and is stretched over +-h, as the scheme does over a step.
+// Central difference of the force (and of the rolling torque) along x(t) = x0 + v t + a t^2/2,
+// spin w(t) = w0 + alpha t, against the exact rate from the law run on Duals. The springs start
+// from the same state on both sides and are stretched over +-h, as the scheme does over a step.
 struct Body {
   Vec3 x, v, a, w, alpha;
   Body at(double t) const { return {x + t * v + (0.5 * t * t) * a, v + t * a, a, w + t * alpha, alpha}; }
 };
 
-template <class Normal, class Tangential>
-void check_pair_rates(const Normal& normal, const Tangential& tangential, const Body& i, const Body& j, Vec3 xi0) {
+constexpr double kRollingInertia = 3e-13;  // kg m^2, about the pair's below
+
+template <class Normal, class Tangential, class Rolling = NoRolling>
+ContactForceRate check_pair_rates(const Normal& normal, const Tangential& tangential, const Body& i, const Body& j, Vec3 xi0,
+                                  const Rolling& rolling = {}, Vec3 spring0 = {}) {
   const double ri = 0.5e-3, rj = 0.6e-3, mi = 1.4e-6, mj = 2.4e-6;
   const Vec3 n0 = (i.x - j.x) / norm(i.x - j.x);
-  xi0 -= dot(xi0, n0) * n0;  // a spring lies in the contact plane
+  xi0 -= dot(xi0, n0) * n0;  // the springs lie in the contact plane
+  spring0 -= dot(spring0, n0) * n0;
   auto force = [&](double t, double dt) {
     const Body a = i.at(t), b = j.at(t);
     ContactGeometry g = pair_geometry<double>(ri, rj, mi, mj, a.x - b.x, a.v, b.v, a.w, b.w);
-    g.dt = dt;
-    ContactHistory h{xi0, {0, 0}};
-    return evaluate(normal, tangential, NoRolling{}, g, h);
+    g.dt = dt, g.rolling_inertia = kRollingInertia;
+    ContactHistory h{xi0, {0, 0}, spring0};
+    return evaluate(normal, tangential, rolling, g, h);
   };
   const Body a = i.at(0), b = j.at(0);
   DualContactGeometry g = pair_geometry<Dual>(ri, rj, mi, mj, DualVec3(a.x - b.x, a.v - b.v), DualVec3(a.v, a.a),
                                               DualVec3(b.v, b.a), DualVec3(a.w, a.alpha), DualVec3(b.w, b.alpha));
-  g.dt = 0;
-  ContactHistory h{xi0, {0, 0}};
-  const ContactForceRate exact = evaluate_with_rates(normal, tangential, g, h);
+  g.dt = 0, g.rolling_inertia = kRollingInertia;
+  ContactHistory h{xi0, {0, 0}, spring0};
+  const ContactForceRate exact = evaluate_with_rates(normal, tangential, rolling, g, h);
   const double step = 1e-7;
   const ContactForce up = force(step, step), down = force(-step, -step);
   const Vec3 fd = (up.total - down.total) / (2 * step), fd_t = (up.tangential - down.tangential) / (2 * step);
   const double scale = norm(rate(exact.total));
-  ASSERT_GT(scale, 0);
+  EXPECT_GT(scale, 0);
   EXPECT_LT(norm(fd - rate(exact.total)), 1e-5 * scale) << "total";
   EXPECT_LT(norm(fd_t - rate(exact.tangential)), 1e-5 * scale) << "tangential";
+  if constexpr (!std::is_same_v<Rolling, NoRolling>) {
+    const Vec3 fd_r = (up.rolling - down.rolling) / (2 * step), exact_r = rate(exact.rolling.torque);
+    std::printf("rolling torque %.4g N m, its rate %.6g N m/s, off the difference by %.3g\n", norm(value(exact.rolling.torque)),
+                norm(exact_r), norm(fd_r - exact_r));
+    EXPECT_GT(norm(exact_r), 0);
+    EXPECT_LT(norm(fd_r - exact_r), 1e-5 * norm(exact_r)) << "rolling";
+  }
+  return exact;
 }
 
 // Approaching, sliding sideways and spinning; the spring already stretched in the plane.
@@ -453,6 +466,30 @@ TEST(BlockHermiteRates, TangentialStickAndSlip) {
   }
 }
 
+// Rolling resistance on Duals: model CDT's torque turns with w_r's direction and follows the
+// normal force; model EPSD's spring turns at -k_r w_r and with the contact plane, below its
+// cap with the dashpot, at the cap (a spring already beyond it, slipping) without.
+TEST(BlockHermiteRates, RollingResistance) {
+  const HertzSediment normal{5e8, 0.2};
+  const MindlinSlip tangential{0.5, 0.17, 0.9};
+  const Vec3 xi{0, 1e-9, 2e-9};
+  const ContactForceRate cdt = check_pair_rates(normal, tangential, kI, kJ, xi, ConstantDirectionalTorque{0.1});
+  EXPECT_GT(norm(value(cdt.rolling.torque)), 0);
+  const ElasticPlasticRolling epsd{0.1, 0.3};
+  const ContactForceRate below = check_pair_rates(normal, tangential, kI, kJ, xi, epsd, Vec3{0, 1e-8, -2e-8});
+  const ContactForceRate slipping = check_pair_rates(normal, tangential, kI, kJ, xi, epsd, Vec3{0, 1e-2, -2e-2});
+  // The cap (mu_r R* |F_n|) lies between the two springs: the dashpot acts below it only.
+  const double cap = norm(value(cdt.rolling.torque));
+  std::printf("cap %.4g N m; below: spring dashpot C_r = %.4g N m s, k_r = %.4g N m; slipping: C_r = %.4g\n", cap,
+              below.rolling.damping, below.rolling.stiffness, slipping.rolling.damping);
+  EXPECT_GT(cap, norm(Vec3{0, 1e-8, -2e-8}));
+  EXPECT_LT(cap, norm(Vec3{0, 1e-2, -2e-2}));
+  EXPECT_GT(below.rolling.damping, 0);
+  EXPECT_EQ(slipping.rolling.damping, 0);
+  EXPECT_NEAR(norm(value(slipping.rolling.torque)), cap, 1e-12 * cap);
+  EXPECT_GT(below.rolling.stiffness, 0);
+}
+
 TEST(BlockHermiteRates, WallContact) {
   const Vec3 n = Vec3{0.1, 0, 1} / norm(Vec3{0.1, 0, 1});
   const Vec3 wall_v{0.01, 0, 0.02};  // a moving wall
@@ -470,7 +507,7 @@ TEST(BlockHermiteRates, WallContact) {
   DualContactGeometry g = wall_geometry<Dual>(r, m, n, Dual(dot(b.x, n), dot(b.v - wall_v, n)),
                                               DualVec3(b.v - wall_v, b.a), DualVec3(b.w, b.alpha));
   ContactHistory h{{0, 1e-9, 0}, {0, 0}};
-  const ContactForceRate exact = evaluate_with_rates(normal, tangential, g, h);
+  const ContactForceRate exact = evaluate_with_rates(normal, tangential, NoRolling{}, g, h);
   const double step = 1e-7;
   const Vec3 fd = (force(step, step).total - force(-step, -step).total) / (2 * step);
   EXPECT_LT(norm(fd - rate(exact.total)), 1e-5 * norm(rate(exact.total)));
@@ -512,7 +549,7 @@ TEST(BlockHermiteRates, CurvedWallContact) {
     const BasicWallTouch<Dual> moving = touch_with_rates<Dual>(wall, motion, touch, v_rel);
     DualContactGeometry g = wall_geometry<Dual>(r, m, moving.normal, moving.distance, v_rel, motion.w);
     ContactHistory h{{0, 1e-8, 0}, {0, 0}};
-    const ContactForceRate exact = evaluate_with_rates(normal, tangential, g, h);
+    const ContactForceRate exact = evaluate_with_rates(normal, tangential, NoRolling{}, g, h);
     const double step = 1e-9;  // the spring (1e-8 m) changes by 5e-11 m: |xi| stays smooth
     const Vec3 fd = (force(step, step).total - force(-step, -step).total) / (2 * step);
     std::printf("shape %d: overlap %.3g m, force rate |%.6g| N/s, off the difference by %.3g\n", static_cast<int>(wall.shape),

@@ -387,6 +387,16 @@ TEST(Resume, AfterSigkillTheRunEndsBitIdentical_RollingResistance) {
                                   300);
 }
 
+// The same with block steps (grains settling onto a floor, as in _BlockHermite below): the
+// rolling springs survive the kill beside the per-particle Hermite state.
+TEST(Resume, AfterSigkillTheRunEndsBitIdentical_RollingResistanceBlockSteps) {
+  TempDir dir;
+  expect_sigkill_resume_identical(dir.path(), kScenarios / "block_sediment.toml",
+                                  {"--set", "simulation.duration=0.06", "--set", "contact.default.rolling=\"epsd\"", "--set",
+                                   "contact.default.rolling_friction=0.1", "--set", "contact.default.rolling_damping=0.3"},
+                                  600);
+}
+
 // A moving wall (the piston of the Hooke/Hysteresis demonstration, loading the bed): its
 // plane and velocity are part of the state, and the wall columns of series.csv continue.
 TEST(Resume, AfterSigkillTheRunEndsBitIdentical_MovingWall) {

@@ -127,7 +127,7 @@ TEST(MeshWallRates, TheForcesRateAtATurningEdgeIsTheDifferenceAlongThePath) {
   const BasicWallTouch<Dual> moving = touch_with_rates<Dual>(wall, motion, now.touch, v_rel, now.feature.kind, now.feature.index);
   DualContactGeometry g = wall_geometry<Dual>(r, m, moving.normal, moving.distance, v_rel, motion.w);
   ContactHistory h{spring, {0, 0}};
-  const ContactForceRate exact = evaluate_with_rates(normal, tangential, g, h);
+  const ContactForceRate exact = evaluate_with_rates(normal, tangential, NoRolling{}, g, h);
   const double step = 1e-9;
   const Vec3 fd = (force(step, step).total - force(-step, -step).total) / (2 * step);
   std::printf("overlap %.3g m, force rate |%.6g| N/s, off the difference by %.3g\n", value(g.delta), norm(rate(exact.total)),

@@ -66,6 +66,19 @@ TEST(Threads, RollingResistanceGivesIdenticalBitsForOneAndTwoThreads) {
   EXPECT_FALSE(same_bits(one.particles.omega, plain.particles.omega)) << "the rolling torque took no part";
 }
 
+// The same with block steps (grains settling in water onto a floor, tests/scenarios/
+// block_sediment.toml): the rolling torques and their rates gathered in the same order, the
+// rolling dashpot's correction and step bound alike on 1 and 2 threads.
+TEST(Threads, RollingResistanceWithBlockStepsGivesIdenticalBitsForOneAndTwoThreads) {
+  const std::vector<std::string> rolling = {"contact.default.rolling=\"epsd\"", "contact.default.rolling_friction=0.1",
+                                            "contact.default.rolling_damping=0.3"};
+  const World one = run("block_sediment.toml", 1, rolling);
+  const World two = run("block_sediment.toml", 2, rolling);
+  EXPECT_TRUE(testing::same_particle_bits(one, two));
+  const World plain = run("block_sediment.toml", 1);
+  EXPECT_FALSE(same_bits(one.particles.omega, plain.particles.omega)) << "the rolling torque took no part";
+}
+
 // Hindered settling (docs/engine.md): each grain's ball sums its neighbours in index order,
 // so threads and the skin (which changes what the crowd list holds) leave the bits alone.
 TEST(Threads, HinderedSettlingGivesIdenticalBitsForThreadsAndSkins) {

@@ -99,12 +99,9 @@ bool LawTable::resists_rolling() const {
 }
 
 std::string LawTable::without_rates() const {
-  for (const auto& l : laws) {
+  for (const auto& l : laws)
     if (!std::visit([](const auto& m) { return has_rates_v<std::decay_t<decltype(m)>>; }, l.normal))
       return "normal model " + std::string(label_of(l.normal));
-    if (!std::holds_alternative<NoRolling>(l.rolling))
-      return "rolling model " + std::string(std::visit([](const auto& m) { return traits_of<std::decay_t<decltype(m)>>().label; }, l.rolling));
-  }
   return "";
 }
 

@@ -43,7 +43,7 @@ constexpr bool has_rates_v = requires(const Normal& n, const DualContactGeometry
 // world/contact_list.hpp lists at Contact, and no other: with them a pair's force does not
 // depend on which of its particles the laws see it from); a law runs with block steps
 // exactly when its force has rates. A rolling law's one slot is ContactHistory::rolling,
-// negated on a swap; the block steps carry no rolling torque, so only "none" runs with them.
+// negated on a swap; every rolling law has rates (its torque is written on the number type).
 template <class Law>
 constexpr bool well_formed_normal_law() {
   constexpr LawTraits t = traits_of<Law>();
@@ -69,8 +69,10 @@ constexpr bool well_formed_rolling_law() {
   static_assert(traits_of<Law>().history.size() <= 1, "a rolling law's one history slot is ContactHistory::rolling");
   static_assert(traits_of<Law>().history.empty() || traits_of<Law>().history[0].swap == Swap::negate,
                 "the rolling spring is negated on a swap");
-  static_assert(traits_of<Law>().allows("block_hermite") == std::is_same_v<Law, NoRolling>,
-                "the block steps carry no rolling torque: declare integrators = {kFixedSteps}");
+  static_assert(requires(const Law& l, const DualContactGeometry& g, const BasicNormalForce<Dual>& fn, DualVec3& h) {
+    l.torque(g, fn, h);
+  }, "a rolling law's torque is written on the number type (block steps take its rates)");
+  static_assert(traits_of<Law>().allows("block_hermite"), "every integrator takes a rolling law");
   return true;
 }
 
@@ -95,27 +97,29 @@ template <class Normal, class Tangential, class Rolling>
                                                     const ContactGeometry& g, ContactHistory& h) {
   const NormalForce fn = normal.force(g, h);
   const Vec3 ft = tangential.force(g, fn, h.xi);
-  return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift, rolling.torque(g, fn, h.rolling)};
+  return {fn.f * g.n + ft, ft, fn.energy, fn.gap_shift, rolling.torque(g, fn, h.rolling).torque};
 }
 
-// The same law run on Duals: the force on particle i and its tangential part, each with its
-// time derivative along the kinematics that `g` carries. The history is advanced as by
-// evaluate() (no rolling torque: block steps run the rolling law "none" only).
+// The same law run on Duals: the force on particle i, its tangential part and the rolling
+// torque on i, each with its time derivative along the kinematics that `g` carries. The
+// history is advanced as by evaluate().
 struct ContactForceRate {
   DualVec3 total, tangential;
   double energy = 0;
   double stiffness = 0;  // linear-equivalent normal stiffness now, N/m
   double damping = 0;    // normal damping coefficient now, N s/m
   double tangential_damping = 0;  // the tangential dashpot's coefficient, N s/m
+  BasicRollingTorque<Dual> rolling;
 };
-template <class Normal, class Tangential>
-inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangential& tangential,
+template <class Normal, class Tangential, class Rolling>
+inline ContactForceRate evaluate_with_rates(const Normal& normal, const Tangential& tangential, const Rolling& rolling,
                                             const DualContactGeometry& g, ContactHistory& h) {
   const BasicNormalForce<Dual> fn = normal.force(g, h);
-  DualVec3 xi(h.xi);
+  DualVec3 xi(h.xi), spring(h.rolling);
   const DualVec3 ft = tangential.force(g, fn, xi);
-  h.xi = value(xi);
-  return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v, fn.damping.v, tangential.dashpot_ratio() * fn.damping.v};
+  const BasicRollingTorque<Dual> torque = rolling.torque(g, fn, spring);
+  h.xi = value(xi), h.rolling = value(spring);
+  return {fn.f * g.n + ft, ft, fn.energy.v, fn.stiffness.v, fn.damping.v, tangential.dashpot_ratio() * fn.damping.v, torque};
 }
 
 // A dt below this share of a contact's duration resolves it (20 steps per contact; the
@@ -188,7 +192,7 @@ struct LawTable {
   bool corrects_positions() const;
   // True when some law has a rolling model (not "none").
   bool resists_rolling() const;
-  // A normal or rolling model in the table that has no rates (block steps cannot run it), as
+  // A normal model in the table that has no rates (block steps cannot run it), as
   // "normal model <label>", or "" when every law has them.
   std::string without_rates() const;
 };

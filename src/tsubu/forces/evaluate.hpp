@@ -101,13 +101,12 @@ Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t
 }
 
 // The law's models, called on the number type T: every law on double; on Dual only the laws
-// with rates, and no rolling resistance (compute_active refuses a table with another).
+// whose normal model has rates (compute_active refuses a table with another).
 template <class T, class Visit>
 void visit_law(const PairLaw& law, Visit&& visit) {
   std::visit(
       [&](const auto& normal, const auto& tangential, const auto& rolling) {
-        if constexpr (std::is_same_v<T, double> || (has_rates_v<std::decay_t<decltype(normal)>> &&
-                                                    std::is_same_v<std::decay_t<decltype(rolling)>, NoRolling>))
+        if constexpr (std::is_same_v<T, double> || has_rates_v<std::decay_t<decltype(normal)>>)
           visit(normal, tangential, rolling);
       },
       law.normal, law.tangential, law.rolling);
@@ -119,7 +118,7 @@ template <class Normal, class Tangential, class Rolling, class T>
 [[gnu::always_inline]] inline auto evaluate_law(const Normal& normal, const Tangential& tangential, const Rolling& rolling,
                                                 const BasicContactGeometry<T>& g, ContactHistory& h) {
   if constexpr (std::is_same_v<T, double>) return evaluate(normal, tangential, rolling, g, h);
-  else return evaluate_with_rates(normal, tangential, g, h);
+  else return evaluate_with_rates(normal, tangential, rolling, g, h);
 }
 
 // The rate channel's step bound of a contact (ContactStepRules): touching, the shorter of
@@ -140,6 +139,14 @@ double contact_step(const Normal& normal, const ContactStepRules& rules, double 
   const double spring = rules.kappa_c * M_PI * std::sqrt(m_eff / stiffness);
   return collision_longer_than(normal, m_eff, r_eff, u, spring / rules.kappa_c) ? spring : impact();
 }
+
+// The rolling spring k_r (N m/rad) as the contact rule sees it: the normal stiffness whose
+// half period, with the contact's m_eff, is the half period of the spring turning the two
+// bodies against each other about their centres (rotation rate k_r (1/I_i + 1/I_j),
+// `turning`; a wall's body turns alone). Turning about the centre, not the contact point
+// (I + m R^2, which the rolling dashpot's C_r uses), makes it the faster of the two: the
+// rule is safe for a grain that slides as for one that rolls.
+inline double rolling_equivalent_stiffness(double k_r, double m_eff, double turning) { return k_r * m_eff * turning; }
 
 // How long ago a contact that is found touching, and was not at its last evaluation, began:
 // its overlap over its rate of overlap (the approach speed at touch, less what the contact
@@ -172,13 +179,14 @@ struct Lanes {
   Slot<T> n[3][N], delta[N], v_n[N], v_t[3][N], w_roll[3][N];   // BasicContactGeometry
   double r_eff[N], m_eff[N], d_mean[N], d_small[N], dt[kOneStep ? 1 : N], rolling_inertia[N];
   double xi[3][N], normal[2][N], rolling[3][N];                  // ContactHistory
-  Slot<T> total[3][N], tangential[3][N];                         // the law's force on i
-  double energy[N], gap_shift[N], rolling_torque[3][N];          // ContactForce
+  Slot<T> total[3][N], tangential[3][N], rolling_torque[3][N];   // the law's force and rolling torque on i
+  double energy[N], gap_shift[N];                                // ContactForce
   double stiffness[N], damping[N], tangential_damping[N];        // ContactForceRate
+  double rolling_stiffness[N], rolling_damping[N];
 
   static Vector<T> get(const Slot<T> (&a)[3][N], std::size_t b) { return {T(a[0][b]), T(a[1][b]), T(a[2][b])}; }
   static void put(Slot<T> (&a)[3][N], std::size_t b, const Vector<T>& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
-  // The same for the arrays of doubles whatever T (history, rolling torque).
+  // The same for the arrays of doubles whatever T (history).
   static Vec3 get_plain(const double (&a)[3][N], std::size_t b) { return {a[0][b], a[1][b], a[2][b]}; }
   static void put_plain(double (&a)[3][N], std::size_t b, const Vec3& v) { a[0][b] = v.x, a[1][b] = v.y, a[2][b] = v.z; }
 
@@ -197,11 +205,13 @@ struct Lanes {
   ContactHistory history(std::size_t b) const { return {get_plain(xi, b), {normal[0][b], normal[1][b]}, get_plain(rolling, b)}; }
   void set_force(std::size_t b, const ContactForce& f) {
     put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy, gap_shift[b] = f.gap_shift;
-    put_plain(rolling_torque, b, f.rolling);
+    put(rolling_torque, b, f.rolling);
   }
   void set_force(std::size_t b, const ContactForceRate& f) {
     put(total, b, f.total), put(tangential, b, f.tangential), energy[b] = f.energy;
     stiffness[b] = f.stiffness, damping[b] = f.damping, tangential_damping[b] = f.tangential_damping;
+    put(rolling_torque, b, f.rolling.torque);
+    rolling_stiffness[b] = f.rolling.stiffness, rolling_damping[b] = f.rolling.damping;
   }
   // The law of every lane: a vector loop (the LawLoopVectorises test checks that it is one).
   template <class Normal, class Tangential, class Rolling>
@@ -262,6 +272,7 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
         const double dist = std::sqrt(dist2);
         c.history = {};
         pair_results_.set(k, {}, {}, 0, 0);
+        if (rolls_) pair_results_.rolling_i[k] = {};
         const Vec3 n = d / dist;
         const double gap = dist - reach, opening = dot(value(a.v) - value(b.v), n);
         const double released = was_touching[m] ? release_age(gap, opening) : 0;
@@ -319,14 +330,20 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     const Vector<T> n_x_ft = cross(n, lanes.get(lanes.tangential, b));
     const T delta = lanes.delta[b];
     pair_results_.set(k, value(total), value(n_x_ft), value(delta), lanes.energy[b]);
-    if (rolls_) pair_results_.rolling_i[k] = lanes.get_plain(lanes.rolling_torque, b);
+    if (rolls_) pair_results_.rolling_i[k] = value(lanes.get(lanes.rolling_torque, b));
     if constexpr (kRates) {
       const double v_n = T(lanes.v_n[b]).v;
+      const double stiffness =
+          rolls_ ? std::max(lanes.stiffness[b], rolling_equivalent_stiffness(lanes.rolling_stiffness[b], lanes.m_eff[b],
+                                                                             1 / p.inertia[c.i] + 1 / p.inertia[c.j]))
+                 : lanes.stiffness[b];
       visit_law<T>(law_of(c), [&](const auto& normal, const auto&, const auto&) {
         pair_rates_[k] = {rate(total), rate(n_x_ft), delta.d,
-                          contact_step(normal, *rules, lanes.m_eff[b], lanes.r_eff[b], true, -v_n, lanes.stiffness[b], 0, 0),
+                          contact_step(normal, *rules, lanes.m_eff[b], lanes.r_eff[b], true, -v_n, stiffness, 0, 0),
                           value(n), lanes.damping[b], lanes.tangential_damping[b], was_touching[b] ? 0 : onset_age(delta)};
       });
+      if (rolls_)
+        pair_rates_[k].rolling_i = rate(lanes.get(lanes.rolling_torque, b)), pair_rates_[k].rolling_damping = lanes.rolling_damping[b];
     } else if (shifts_) {  // models P and F: split like an impulse, the centre of mass stays where it is
       const double shift = lanes.gap_shift[b] * lanes.m_eff[b];
       pair_results_.shift_i[k] = (shift / p.mass[c.i]) * n;
@@ -392,9 +409,14 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const Vector<T> n_x_ft = cross(g.n, f.tangential);
   wall_results_.set(k, value(f.total), value(n_x_ft), value(g.delta), f.energy);
   if constexpr (kRates) {
+    const double stiffness =
+        rolls_ ? std::max(f.stiffness, rolling_equivalent_stiffness(f.rolling.stiffness, p.mass[i], 1 / p.inertia[i]))
+               : f.stiffness;
     wall_rates_[k] = {rate(f.total), rate(n_x_ft), g.delta.d,
-                      contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, f.stiffness, 0, 0), n, f.damping,
+                      contact_step(normal, *rules, p.mass[i], r, true, -g.v_n.v, stiffness, 0, 0), n, f.damping,
                       f.tangential_damping, was_touching ? 0 : onset_age(g.delta)};
+    if (rolls_) wall_results_.rolling_i[k] = value(f.rolling.torque), wall_rates_[k].rolling_i = rate(f.rolling.torque),
+                wall_rates_[k].rolling_damping = f.rolling.damping;
   } else {
     if (shifts_) wall_results_.shift_i[k] = f.gap_shift * g.n;  // zero for models that do not correct
     if (rolls_) wall_results_.rolling_i[k] = f.rolling;

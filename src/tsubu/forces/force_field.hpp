@@ -135,7 +135,8 @@ class ForceField {
   // Block steps: the change of the active particles' contact forces and torques when the
   // velocities and spins change by dv, dw (per particle, zero for the others) at the last
   // evaluation's positions: the dashpots' linear response -eta_n (du.n) n - eta_t du_t to the
-  // change du of each touching contact's relative velocity. The same map takes a change of
+  // change du of each touching contact's relative velocity, and model EPSD's rolling dashpot
+  // -C_r dw_r to the change of the relative rolling velocity. The same map takes a change of
   // accelerations to the change of the forces' rates. Written to df, dtorque (active entries).
   void dashpot_response(const World& world, const std::vector<std::uint32_t>& active, const std::vector<Vec3>& dv,
                         const std::vector<Vec3>& dw, std::vector<Vec3>& df, std::vector<Vec3>& dtorque) const;
@@ -262,6 +263,10 @@ class ForceField {
     // (EvaluationRates::touched_for). One that ended: how long ago, gap / (d gap/dt)
     // (EvaluationRates::released_for). 0 for every other.
     double touched_for = 0, released_for = 0;
+    // With rolling resistance: d/dt of Results::rolling_i and the rolling dashpot's C_r now
+    // (N m s/rad; 0 without one or at its cap).
+    Vec3 rolling_i = {};
+    double rolling_damping = 0;
   };
   const Model* model_;
   std::string without_rates_;  // LawTable::without_rates of the model, found once

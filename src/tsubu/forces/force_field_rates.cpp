@@ -22,8 +22,8 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   const ContactList& contacts = world.contacts;
   const auto& pairs = contacts.pairs();
   const auto& walls = contacts.walls();
-  pair_results_.resize(pairs.size(), false, false);
-  wall_results_.resize(walls.size(), false, false);
+  pair_results_.resize(pairs.size(), false, rolls_);
+  wall_results_.resize(walls.size(), false, rolls_);
   pair_rates_.resize(pairs.size());
   wall_rates_.resize(walls.size());
   // Each contact once, from its first active particle; contacts of different active
@@ -77,7 +77,8 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     // M^-1/2 C M^-1/2: contact c's dashpot acts on the relative velocity of i and j at the
     // contact point, along its normal with eta_n and along the contact plane with eta_t,
     // where it moves sliding and rolling at once, 1/m + R^2/I = 7/(2m) for a sphere, so its
-    // block of particle i has the norm max(eta_n, 7/2 eta_t)/m_i; a wall has m_j = infinity).
+    // block of particle i has the norm max(eta_n, 7/2 eta_t)/m_i; a wall has m_j = infinity;
+    // model EPSD's rolling dashpot adds C_r (1/I_i + 1/sqrt(I_i I_j)) for the spins).
     // For an isolated pair of equal grains with eta_t = eta_n this is the exact rate
     // 7 eta/m of their relative sliding; with n contacts it grows n-fold. The Hermite
     // corrector is stable for a decay rate lambda while lambda h < 2.5 (amplification
@@ -127,6 +128,10 @@ void ForceField::dashpot_response(const World& world, const std::vector<std::uin
       const double sign = side < 0 ? -1.0 : 1.0;  // i is the pair's j: the reaction
       force += sign * (-rt.damping * du_n * rt.n + df_t);
       torque += -(p.radius[i] - 0.5 * delta) * cross(rt.n, df_t);  // as Results::torque
+      if (rt.rolling_damping > 0) {  // model EPSD's dashpot, -C_r w_r on a, as the rolling torque
+        const Vec3 dw_rel = side == 0 ? dw[a] : dw[a] - dw[k.j];
+        torque += sign * (-rt.rolling_damping) * (dw_rel - dot(dw_rel, rt.n) * rt.n);
+      }
     });
     df[i] = force;
     dtorque[i] = torque;

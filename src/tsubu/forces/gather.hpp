@@ -39,6 +39,7 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
       g.force_rate += sign * rt.force_i;
       // d/dt of -(r - delta/2) (n x F_t)
       g.torque_rate += (0.5 * rt.delta) * e.n_x_ft - (r - 0.5 * e.delta) * rt.n_x_ft;
+      if (rolls_) g.torque_rate += sign * rt.rolling_i;
       if constexpr (reaction) g.evaluated += touch && !(*is_active)[pairs[k].i];  // once per contact
       else g.evaluated += touch;
       g.bound = std::min(g.bound, rt.step_bound);
@@ -47,6 +48,10 @@ inline void ForceField::gather(const World& world, std::size_t i, Gathered<WithR
       if (touch) {
         const double m_j = kSide == 0 ? std::numeric_limits<double>::infinity() : p.mass[reaction ? pairs[k].i : pairs[k].j];
         g.damping_over_mass += std::max(rt.damping, 3.5 * rt.tangential_damping) * (1 / p.mass[i] + 1 / std::sqrt(p.mass[i] * m_j));
+        if (rolls_) {  // model EPSD's rolling dashpot turns i against its partner: C_r (1/I_i + 1/sqrt(I_i I_j))
+          const double i_j = kSide == 0 ? std::numeric_limits<double>::infinity() : p.inertia[reaction ? pairs[k].i : pairs[k].j];
+          g.damping_over_mass += rt.rolling_damping * (1 / p.inertia[i] + 1 / std::sqrt(p.inertia[i] * i_j));
+        }
       }
     }
   });
