@@ -94,6 +94,26 @@ TEST(MeshWallRates, TheTouchWithRatesIsExactAtFacesEdgesAndVertices) {
             1.0);
 }
 
+// A conveyor of triangles (surface_velocity on a mesh, moving with `motion`): its surface's
+// velocity under the grain lies in the contact's plane, and turns with it at an edge and a
+// vertex.
+TEST(MeshWallRates, AConveyorsSurfaceVelocityHasTheRateOfTheContactsPlane) {
+  const Vec3 v{0.3, -0.2, 0.5};
+  Wall belt = mesh_wall(pyramid());
+  belt.velocity = {0.1, 0.05, -0.2};
+  belt.surface_velocity = {0.05, -0.02, 0.03};
+  expect_exact_rates(belt, {0.004, 0.001, 0.001}, v, NearestFeature::face, "conveyor, face");
+  expect_exact_rates(belt, {0.004, 0.0045, 0.001}, v, NearestFeature::edge, "conveyor, edge");
+  expect_exact_rates(belt, {0.0003, -0.0002, 0.003}, v, NearestFeature::vertex, "conveyor, apex");
+  const Vec3 x{0.004, 0.0045, 0.001};
+  const Counted edge = counted(belt, x);
+  const Vec3 u = belt.surface_velocity_at(x, edge.touch) - belt.velocity;
+  EXPECT_LT(std::abs(dot(u, edge.touch.normal)), 1e-15 * norm(u)) << "in the contact's plane";
+  const DualVec3 s = surface_velocity<Dual>(belt, Motion<Dual>{x, DualVec3(v, {}), DualVec3()}, edge.touch, edge.feature.kind,
+                                             edge.feature.index);
+  EXPECT_GT(norm(rate(s)), 1.0) << "the plane turns under the grain at an edge";
+}
+
 // The force's rate of a grain touching a turning, moving mesh at an edge, as the block steps
 // evaluate it (surface_velocity and touch_with_rates on Dual): the central difference of the
 // force along the path, the mesh moving with it.

@@ -38,6 +38,28 @@ TEST(WallSurface, ASphereOnABeltRollsAtTwoSeventhsOfItsSpeed) {
       run_test_scenario("belt.toml", {"simulation.integrator=\"block_hermite\"", "simulation.dt=1e-3"}), "block steps");
 }
 
+// A conveyor of triangles (tests/scenarios/belt_mesh.toml: a flat mesh of 800 triangles of
+// 1 mm under the 1 cm sphere, its surface moving at the belt's 0.1 m/s) is the plane belt: the
+// sphere, touching faces, edges and vertices as it rolls over them, ends at the plane run's
+// place and speed to round-off, with velocity Verlet and with block steps.
+TEST(WallSurface, AConveyorOfTrianglesIsThePlaneBelt) {
+  for (const char* integrator : {"velocity_verlet", "block_hermite"}) {
+    std::vector<std::string> sets = {std::string("simulation.integrator=\"") + integrator + "\""};
+    if (std::string(integrator) == "block_hermite") sets.push_back("simulation.dt=1e-3");
+    const World plane = run_test_scenario("belt.toml", sets), mesh = run_test_scenario("belt_mesh.toml", sets);
+    expect_rolling_at_two_sevenths(mesh, integrator);
+    const Vec3 dx = mesh.particles.position[0] - plane.particles.position[0];
+    const Vec3 dv = mesh.particles.velocity[0] - plane.particles.velocity[0];
+    const Vec3 dw = mesh.particles.omega[0] - plane.particles.omega[0];
+    std::printf("%s: the mesh belt's sphere off the plane's by %.3g m, %.3g m/s, %.3g rad/s (it moved %.4f mm)\n", integrator,
+                norm(dx), norm(dv), norm(dw), 1e3 * plane.particles.position[0].x);
+    EXPECT_GT(plane.particles.position[0].x, 1e-3) << "over several triangles";
+    EXPECT_LT(norm(dx), 1e-12) << integrator;
+    EXPECT_LT(norm(dv), 1e-10) << integrator;
+    EXPECT_LT(norm(dw), 1e-8) << integrator;
+  }
+}
+
 // A turntable turning at 10 rad/s about the vertical through (0, 0.01, 0) moves its surface
 // under the sphere at (0, 0, .) at 0.1 m/s along x, a velocity that stays where it is: in the
 // 3.5 ms between the landing (4.5 ms after the drop) and 8 ms the sphere moves some 0.1 mm,

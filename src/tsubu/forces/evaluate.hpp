@@ -84,7 +84,7 @@ BasicWallTouch<T> touch_with_rates(const Wall& wall, const Motion& a, const Wall
 // within a step, a turning surface's changes as the point under the particle moves: on a
 // whole plane with the particle's velocity, on a curved wall or a mesh with the rate of the
 // nearest point, x - distance normal (`moving`: the touch with its rates), relative to the
-// axis, which moves with the wall.
+// axis, which moves with the wall; a mesh conveyor's with the rate of the contact's plane.
 template <class T, class Motion>
 Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t,
                            NearestFeature::Kind kind = NearestFeature::face, std::uint32_t edge = 0) {
@@ -95,6 +95,10 @@ Vector<T> surface_velocity(const Wall& wall, const Motion& a, const WallTouch& t
     if (!wall.surface_moves()) return DualVec3(u, {});
     if (wall.whole_plane()) return DualVec3(u, cross(wall.angular_velocity, value(a.v)));
     const BasicWallTouch<Dual> moving = touch_with_rates<Dual>(wall, a, t, DualVec3{}, kind, edge);
+    if (wall.mesh && !(wall.surface_velocity == Vec3{})) {  // a conveyor's v_s - (v_s . n) n as n turns
+      const Vec3 n = value(moving.normal), n_rate = rate(moving.normal), &s = wall.surface_velocity;
+      return DualVec3(u, -dot(s, n_rate) * n - dot(s, n) * n_rate);
+    }
     const Vec3 nearest_point_rate = rate(DualVec3(a.x, value(a.v)) - moving.distance * moving.normal);
     return DualVec3(u, cross(wall.angular_velocity, nearest_point_rate - wall.velocity));
   }

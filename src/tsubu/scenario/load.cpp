@@ -406,11 +406,11 @@ void read_mesh_turning(Section& s, const Scenario& sc, Wall& w) {
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
   refuse_with_curved_walls(s, sc, "shape", "a mesh");
-  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius", "surface_velocity"})
+  for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius"})
     if (s.has(key))
       s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "
-                  "motion, and angular_velocity or surface_motion with center (it turns as a rigid body; its surface does "
-                  "not move on its own)");
+                  "motion, surface_velocity (a conveyor), and angular_velocity or surface_motion with center (it turns as a "
+                  "rigid body)");
   const std::filesystem::path given = s.text("file");
   const std::filesystem::path path = (given.is_absolute() ? given : folder / given).lexically_normal();
   if (!std::filesystem::is_regular_file(path))
@@ -465,6 +465,12 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
   read_motion(s, w);
   read_mesh_turning(s, sc, w);
   w.axis_offset = s.vec3("center", {});
+  // A conveyor of triangles: its surface moves at surface_velocity in the contact's plane.
+  w.surface_velocity = s.vec3("surface_velocity", {});
+  if (!(w.surface_velocity == Vec3{}) && (!(w.turn_axis == Vec3{}) || !w.surface_motion.empty()))
+    s.fail("surface_velocity", "a mesh's surface velocity is given in the box's frame and would not turn with the mesh: not "
+                               "with angular_velocity or surface_motion yet (a conveyor of triangles stands still or moves "
+                               "with motion)");
   sc.hash = fnv1a64(file_bytes(path), sc.hash);
 }
 

@@ -140,7 +140,8 @@ class TriangleMesh;  // world/mesh.hpp
 //
 // A mesh: triangles (world/mesh.hpp), each a partner of its own contacts (World::wall_elements);
 // `point` is how far the mesh has moved from where the scenario put it, and it moves as a
-// plane does, with `motion`. It may turn besides, as a rigid body, at `angular_velocity` about
+// plane does, with `motion`. Its surface may move on its own, in the contact's plane (a
+// conveyor of triangles, `surface_velocity`); or the mesh may turn besides, as a rigid body, at `angular_velocity` about
 // the axis through point + axis_offset (a mixer's blade), constant or in `surface_motion`
 // stretches about one axis, `turn_axis` (a drum spun up, a blade that stops or turns back): by
 // the angle at the time t of the evaluation, known in closed form (turn_to; the integral of
@@ -272,10 +273,15 @@ struct Wall {
   }
   // The velocity of the surface at the nearest point to x, where x touches it (t = touch(x)).
   // On a plane's face the rotation is about the normal, so its part is the same at x itself,
-  // which is used; on a hole's rim, a cylinder and a cone the nearest point is.
+  // which is used; on a hole's rim, a cylinder and a cone the nearest point is. A mesh's
+  // surface velocity (a conveyor of triangles, on a mesh that does not turn) is taken in the
+  // contact's plane, where the surface can move without moving the mesh: v_s - (v_s . n) n.
   Vec3 surface_velocity_at(const Vec3& x, const WallTouch& t) const {
     if (!surface_moves()) return velocity;
-    if (mesh) return velocity + cross(angular_velocity, x - t.distance * t.normal - (point + axis_offset));
+    if (mesh) {
+      if (!(surface_velocity == Vec3{})) return velocity + (surface_velocity - dot(surface_velocity, t.normal) * t.normal);
+      return velocity + cross(angular_velocity, x - t.distance * t.normal - (point + axis_offset));
+    }
     const bool face = shape == WallShape::plane && t.normal == normal;
     const Vec3 at = face ? x : x - t.distance * t.normal;
     return velocity + surface_velocity + cross(angular_velocity, at - (point + axis_offset));
