@@ -449,19 +449,22 @@ void expect_inflow_resume_bit_identical(const std::vector<std::string>& sets) {
 }
 
 // Open faces (tests/scenarios/chute_open.toml, grains leaving a chute's open end): a run ended
-// at t = 0.15 s in mid-discharge, its newest checkpoint lost, resumes from t = 0.1 s to 0.2 s:
-// outflow.csv is cut back to its rows at the checkpoint and written again, the totals go on
-// from the checkpoint's, and every output ends as the uninterrupted run's.
-TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
+// in mid-discharge (at `cut_at`), its newest checkpoint lost, resumes from the one before to
+// `duration`: outflow.csv is cut back to its rows at the checkpoint and written again, the
+// totals go on from the checkpoint's, and every output ends as the uninterrupted run's.
+void expect_discharge_resume_bit_identical(std::vector<std::string> sets, const std::string& duration,
+                                           const std::string& cut_at, const std::string& checkpoint_every) {
   TempDir dir;
   const fs::path ref = dir.path() / "ref", cut = dir.path() / "cut";
-  auto args = [&](const fs::path& out, const char* duration) {
-    return std::vector<std::string>{"run", (kScenarios / "chute_open.toml").string(), "--out", out.string(), "--set",
-                                    "output.checkpoint_every_steps=10000", "--set", "output.vtk_interval=0.04", "--set",
-                                    std::string("simulation.duration=") + duration};
+  auto args = [&](const fs::path& out, const std::string& until) {
+    std::vector<std::string> a = {"run", (kScenarios / "chute_open.toml").string(), "--out", out.string(), "--set",
+                                  "output.checkpoint_every_steps=" + checkpoint_every, "--set", "output.vtk_interval=0.04",
+                                  "--set", "simulation.duration=" + until};
+    for (const std::string& s : sets) a.insert(a.end(), {"--set", s});
+    return a;
   };
-  ASSERT_EQ(run(args(ref, "0.2"), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
-  ASSERT_EQ(run(args(cut, "0.15"), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
+  ASSERT_EQ(run(args(ref, duration), dir.path() / "ref.log"), 0) << slurp(dir.path() / "ref.log");
+  ASSERT_EQ(run(args(cut, cut_at), dir.path() / "cut.log"), 0) << slurp(dir.path() / "cut.log");
   const auto checkpoints = list_checkpoints(cut / "checkpoint");
   ASSERT_EQ(checkpoints.size(), 2u);
   fs::remove(checkpoints.front());
@@ -473,7 +476,7 @@ TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
               rows.size());
   EXPECT_GT(c.departed.totals.count, 0);                  // some left before the checkpoint
   EXPECT_LT(c.output.outflow_bytes + 100, rows.size());  // and more after it, rows the resume cuts
-  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=0.2"}, dir.path() / "resume.log"), 0)
+  ASSERT_EQ(run({"resume", cut.string(), "--set", "simulation.duration=" + duration}, dir.path() / "resume.log"), 0)
       << slurp(dir.path() / "resume.log");
   expect_same_outputs(ref, cut, true);  // the state's record of the --set values differs
   const auto results = [](const fs::path& out) {
@@ -482,6 +485,18 @@ TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
   };
   EXPECT_NE(results(ref).find("\"outflow_count\""), std::string::npos) << results(ref);
   EXPECT_EQ(results(ref), results(cut));
+}
+
+// Velocity Verlet: ended at 0.15 s, resumed from 0.1 s to 0.2 s.
+TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical) {
+  expect_discharge_resume_bit_identical({}, "0.2", "0.15", "10000");
+}
+
+// Block steps (1 ms; a grain gone through the face is removed at the end of the step in
+// which it crossed): ended at 0.12 s, resumed from 0.08 s to 0.15 s.
+TEST(Resume, DuringADischargeFromAnEarlierCheckpointTheRunEndsBitIdentical_BlockSteps) {
+  expect_discharge_resume_bit_identical({"simulation.integrator=\"block_hermite\"", "simulation.dt=1e-3"}, "0.15", "0.12",
+                                        "40");
 }
 
 // An insertion region (tests/scenarios/insertion_bin.toml, a bin filled from above): a run

@@ -508,7 +508,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // contact ended: the fit's a2, a3 are no derivatives of a smooth force (without gravity
     // to floor |a| they asked for the finest level), and the event rule takes over there.
     aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended ? aarseth(rules_.eta_a, g, a1, j1, a2 + h * a3, a3) : kNever;
-    lost[q] = !(world.domain.inside(x) && std::isfinite(x.x + x.y + x.z));
+    lost[q] = !(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z));  // beyond an open face: removed at the step's end
   });
   for (std::size_t q = 0; q < active_.size(); ++q)
     if (lost[q]) {
@@ -625,10 +625,20 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
 }
 
 void BlockHermite::renumber(const std::vector<std::uint32_t>& order) {
-  state_.for_each_array([&](auto& a) { permute(a, order); });
+  state_.for_each_array([&](auto& a) {
+    permute(a, order);
+    a.resize(order.size());  // shorter when grains have left
+  });
+  size_scratch(order.size());
+  is_active_.assign(order.size(), 0);
   predicted_at_.assign(order.size(), -1);
   index_levels();
   lists_stale_ = true;
+}
+
+void BlockHermite::particles_removed(World& world, ForceField& forces, const std::vector<std::uint32_t>& kept) {
+  renumber(kept);
+  rebuild_lists(world, forces, world.step << rules_.levels);
 }
 
 void BlockHermite::advance(World& world, ForceField& forces) {

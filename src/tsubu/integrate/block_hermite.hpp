@@ -76,6 +76,10 @@ class BlockHermite {
   // The world's particles were renumbered (sort_spatially, order[new] = old): the Hermite
   // state follows them; the lists are rebuilt at the next block time.
   void renumber(const std::vector<std::uint32_t>& order);
+  // At the end of a step, the grains gone through an open face were removed (kept[new] = old
+  // for the others): the Hermite state follows, and the lists are rebuilt at once, so that a
+  // checkpoint written now holds lists that match the particles.
+  void particles_removed(World& world, ForceField& forces, const std::vector<std::uint32_t>& kept);
   // Advances every particle by dt through the block times in between: afterwards all are
   // at time (world.step + 1) dt, which world.step and world.time then say.
   void advance(World& world, ForceField& forces);

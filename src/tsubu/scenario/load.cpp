@@ -196,9 +196,6 @@ void read_domain(Section s, Scenario& sc) {
     if (sc.domain.periodic[f / 2])
       s.fail("open", "\"" + face + "\": the " + std::string(1, static_cast<char>('x' + f / 2)) +
                          " axis is periodic; a face is either open or periodic");
-    if (sc.integrator == Integrator::block_hermite)
-      s.fail("open", "open faces need a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or "
-                     "\"symplectic_euler\"); block steps cannot remove grains yet");
     sc.domain.open[f / 2][f % 2] = true;
   }
   s.finish();

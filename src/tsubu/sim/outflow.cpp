@@ -7,7 +7,7 @@
 
 namespace tsubu {
 
-bool Outflow::remove_departed(World& w) {
+bool Outflow::remove_departed(World& w, std::vector<std::uint32_t>* kept) {
   Particles& p = w.particles;
   const std::size_t n = p.size();
   std::vector<std::uint32_t> gone;
@@ -31,6 +31,7 @@ bool Outflow::remove_departed(World& w) {
     array.resize(order.size());
   });
   w.contacts.renumber(new_index, p);
+  if (kept) *kept = std::move(order);
   return true;
 }
 

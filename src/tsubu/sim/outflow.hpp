@@ -1,7 +1,8 @@
 // Open faces of the box (domain.open): a grain whose centre has crossed one has left the
-// run. Before each force evaluation of a fixed step the Simulation removes such grains from
-// the world, with their contacts, and the Outflow records each one (a Departure, the rows of
-// outflow.csv) and the totals (series.csv, run.json, checkpoints).
+// run. Before each force evaluation of a fixed step, and at the end of each block step (when
+// every grain is at its time), the Simulation removes such grains from the world, with their
+// contacts, and the Outflow records each one (a Departure, the rows of outflow.csv) and the
+// totals (series.csv, run.json, checkpoints).
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -36,8 +37,9 @@ class Outflow {
 
   // Removes from w's particles (one process: no ghosts) those beyond an open face, recorded
   // in the order of their ids; the others keep their order, and the contact lists follow
-  // (ContactList::renumber). Returns whether any grain left.
-  bool remove_departed(World& w);
+  // (ContactList::renumber). Returns whether any grain left; then `kept` (if given) holds the
+  // old index of each particle that stays (kept[new] = old).
+  bool remove_departed(World& w, std::vector<std::uint32_t>* kept = nullptr);
 
   const Totals& totals() const { return totals_; }
   void restore(const Totals& t) { totals_ = t; }

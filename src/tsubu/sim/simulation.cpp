@@ -11,10 +11,7 @@ Simulation::Simulation(World world, Model model, Integrator integrator, const Bl
     : model_(std::make_unique<const Model>(std::move(model))), world_(std::move(world)), integrator_(integrator) {
   if (integrator_ == Integrator::block_hermite) block_ = std::make_unique<BlockHermite>(block_steps);
   world_.index_wall_elements();  // the walls' contact partners (a mesh: its triangles)
-  if (world_.domain.any_open()) {
-    if (block_) throw std::logic_error("open faces with block steps (the scenario refuses them)");
-    outflow_.emplace();
-  }
+  if (world_.domain.any_open()) outflow_.emplace();
 }
 
 void Simulation::feed(InflowFeed inflow) {
@@ -37,6 +34,7 @@ void Simulation::step() {
   if (block_) {
     if (sort_due()) renumber();
     block_->advance(world_, forces_);
+    remove_departed_at_block_end();
   } else {
     advance(integrator_, world_, [this](double fluid_lead) { evaluate(fluid_lead); });
   }
@@ -50,6 +48,19 @@ void Simulation::evaluate(double fluid_lead) {
   }
   if (sort_due()) renumber();
   forces_.compute(world_, fluid_lead);
+}
+
+// Block steps: a grain may cross an open face in the middle of a step, on its own shorter
+// step; it flies on (beyond the face, where nothing touches it but grains it still touches)
+// until the step's end, when every grain is at the same time and it is removed, as the fixed
+// steps remove it before their next evaluation.
+void Simulation::remove_departed_at_block_end() {
+  if (!outflow_) return;
+  forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
+  std::vector<std::uint32_t> kept;
+  if (!outflow_->remove_departed(world_, &kept)) return;
+  forces_.renumbered(world_);
+  block_->particles_removed(world_, forces_, kept);
 }
 
 bool Simulation::sort_due() const {

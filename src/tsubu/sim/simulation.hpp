@@ -83,6 +83,8 @@ class Simulation {
   // callable): the grains gone through an open face removed, the sort schedule, then the
   // force field.
   void evaluate(double fluid_lead);
+  // Block steps: the grains gone through an open face removed at the end of each step.
+  void remove_departed_at_block_end();
   bool sort_due() const;
   // One renumbering for every per-particle store: the world's particles and contacts, the
   // force field's lists, the block-step state.
