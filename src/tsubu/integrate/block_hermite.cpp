@@ -297,22 +297,26 @@ std::vector<double> BlockHermite::wall_reach(const World& world) const {
   // distance from the axis besides.
   std::vector<double> reach;
   for (const Wall& w : world.walls)
-    reach.push_back((w.top_speed() + norm(w.angular_velocity) * turning_reach(w)) * rules_.list_horizon * world.dt);
+    reach.push_back((w.top_speed() + w.top_turning_rate() * turning_reach(w)) * rules_.list_horizon * world.dt);
   return reach;
 }
 
 void BlockHermite::walls_at(World& world, std::int64_t t) const {
-  // The velocity of the stretch that begins at or holds t: the one the walls keep over the
-  // steps that start at t (no step straddles a change, see until_wall_event), which the
-  // contacts' forces and gap rules at t take.
-  for (Wall& w : world.walls)
-    if (!w.motion.empty()) w.velocity = w.velocity_at(static_cast<double>(t) * tick(world));
+  // The velocity and surface motion of the stretches that begin at or hold t: those the
+  // walls keep over the steps that start at t (no step straddles a change, see
+  // until_wall_event), which the contacts' forces and gap rules at t take. (A turning mesh's
+  // angle is its closed form at t, Wall::turn_to.)
+  const double now = static_cast<double>(t) * tick(world);
+  for (Wall& w : world.walls) {
+    if (!w.motion.empty()) w.velocity = w.velocity_at(now);
+    w.surface_during(now);
+  }
 }
 
 double BlockHermite::until_wall_event(const World& world, std::uint32_t i, std::int64_t t) const {
-  // A change of a listed wall's motion ends the particle's step: a step chosen while the
-  // floor stood still, and straddling the moment it starts to rise, met the floor inside the
-  // step (a grain 7.8 um above it flung off at 11 m/s).
+  // A change of a listed wall's motion or of its surface's motion ends the particle's step: a
+  // step chosen while the floor stood still, and straddling the moment it starts to rise, met
+  // the floor inside the step (a grain 7.8 um above it flung off at 11 m/s).
   const double now = static_cast<double>(t) * tick(world);
   double until = kNever;
   world.contacts.for_each_wall_of(i, [&](std::uint32_t element, std::uint32_t) {

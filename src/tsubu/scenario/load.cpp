@@ -268,14 +268,11 @@ Vec3 rotation_about(Section& s, const Vec3& about, const std::string& what,
 // a plane, angular_velocity about its normal or axis, `what`) or in stretches of time
 // (surface_motion, each with `until` and either of the two); a plane's rotation is about
 // `center`.
-void read_surface_motion(Section& s, const Scenario& sc, Wall& w, const Vec3& about, const std::string& what) {
+void read_surface_motion(Section& s, Wall& w, const Vec3& about, const std::string& what) {
   const bool plane = w.shape == WallShape::plane;
   if (s.has("surface_motion")) {
     for (const char* key : {"surface_velocity", "angular_velocity"})
       if (s.has(key)) s.fail(key, "give the surface's motion either as constant values or as surface_motion stretches, not both");
-    if (sc.integrator == Integrator::block_hermite)
-      s.fail("surface_motion", "needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or \"symplectic_euler\"); "
-                               "block steps take a constant surface motion only yet");
     double previous = 0;
     for (Section m : s.tables("surface_motion")) {
       SurfaceMotion stretch;
@@ -335,7 +332,7 @@ void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string&
     w.radius = s.positive("radius");
   }
   w.inside = s.choice("side", {"inside", "outside"}, std::string("inside")) == "inside";
-  read_surface_motion(s, sc, w, w.axis, "the " + shape + "'s axis");
+  read_surface_motion(s, w, w.axis, "the " + shape + "'s axis");
 }
 
 // A wall's motion in stretches of constant velocity (a plane's, a mesh's).
@@ -369,13 +366,10 @@ Vec3 turning_rate(Section& s) {
   return omega;
 }
 
-void read_mesh_turning(Section& s, const Scenario& sc, Wall& w) {
+void read_mesh_turning(Section& s, Wall& w) {
   if (s.has("surface_motion")) {
     if (s.has("angular_velocity"))
       s.fail("angular_velocity", "give the mesh's turning either as a constant angular_velocity or as surface_motion stretches, not both");
-    if (sc.integrator == Integrator::block_hermite)
-      s.fail("surface_motion", "needs a fixed-step integrator (simulation.integrator = \"velocity_verlet\" or \"symplectic_euler\"); "
-                               "block steps take a mesh turning at a constant angular_velocity only yet");
     double previous = 0;
     for (Section m : s.tables("surface_motion")) {
       SurfaceMotion stretch;
@@ -460,7 +454,7 @@ void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::pa
     s.fail("file", std::string("the mesh in ") + unit + ": " + e.what() + " (after scaling)");
   }
   read_motion(s, w);
-  read_mesh_turning(s, sc, w);
+  read_mesh_turning(s, w);
   w.axis_offset = s.vec3("center", {});
   // A conveyor of triangles: its surface moves at surface_velocity in the contact's plane.
   w.surface_velocity = s.vec3("surface_velocity", {});
@@ -499,7 +493,7 @@ void read_wall(Section s, Scenario& sc, const std::filesystem::path& folder) {
     refuse_with_curved_walls(s, sc, "hole_radius", "a plane with a hole");
   }
   read_motion(s, w);
-  read_surface_motion(s, sc, w, w.normal, "the wall's normal");
+  read_surface_motion(s, w, w.normal, "the wall's normal");
   s.finish();
   sc.walls.push_back(w);
 }

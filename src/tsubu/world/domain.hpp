@@ -294,18 +294,30 @@ struct Wall {
       if (t < m.until) return m.velocity;
     return {};
   }
-  // When the velocity next changes after t (the end of the stretch that holds t), s; infinite
-  // when it never changes again.
+  // When the velocity or the surface's motion next changes after t (the end of the stretch
+  // that holds t), s; infinite when neither changes again.
   double next_change(double t) const {
+    double next = std::numeric_limits<double>::infinity();
     for (const WallMotion& m : motion)
-      if (t < m.until) return m.until;
-    return std::numeric_limits<double>::infinity();
+      if (t < m.until) {
+        next = m.until;
+        break;
+      }
+    for (const SurfaceMotion& m : surface_motion)
+      if (t < m.until) return std::min(next, m.until);
+    return next;
   }
   // The largest speed of its motion, m/s.
   double top_speed() const {
     double v = 0;
     for (const WallMotion& m : motion) v = std::max(v, norm(m.velocity));
     return v;
+  }
+  // The largest rate of its surface's turning, rad/s, constant or over its stretches.
+  double top_turning_rate() const {
+    double w = norm(angular_velocity);
+    for (const SurfaceMotion& m : surface_motion) w = std::max(w, norm(m.angular_velocity));
+    return w;
   }
 
   // Moves the plane over the step [t, t + dt], and sets its surface's motion for it.
