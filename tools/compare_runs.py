@@ -38,7 +38,10 @@ CASES = [
     ("symplectic_euler_model_p", "tests/scenarios/checkpoint_model_p.toml", ["simulation.duration=0.02"]),
     ("block_steps", "tests/scenarios/block_sediment.toml", []),
     ("block_steps_inflow", "tests/scenarios/rain_small.toml", ["simulation.duration=0.05", "search.sort_every=3"]),
-    ("inflow", "tests/scenarios/inflow_small.toml", ["simulation.duration=0.1", "search.sort_every=50"]),
+    # A series row at every step: rows at the steps where grains enter read the contacts'
+    # results across the split's arrangement of the new grains.
+    ("inflow", "tests/scenarios/inflow_small.toml",
+     ["simulation.duration=0.15", "search.sort_every=50", "output.series_interval=2e-5"]),
     ("hindered_settling", "tests/scenarios/sediment_inflow.toml",
      ["simulation.duration=0.03", "simulation.dt=1e-6", "fluid.hindered_settling=true"]),
     ("moving_walls", "tests/scenarios/contact_network.toml", ["simulation.duration=0.05"]),
@@ -46,10 +49,12 @@ CASES = [
     ("search_multilevel", "tests/scenarios/poly_search.toml", []),
     ("search_cell", "tests/scenarios/poly_search.toml", ['search.method="cell"']),
     ("mesh_walls", "tests/scenarios/mesh_mixer.toml", ["simulation.duration=0.05", "search.sort_every=50"]),
+    ("open_faces", "tests/scenarios/chute_open.toml", ["simulation.duration=0.12", "search.sort_every=50"]),
+    ("insertion", "tests/scenarios/insertion_bin.toml", []),
 ]
 # The cases a run split among processes supports (no block steps).
 SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "inflow", "hindered_settling", "moving_walls",
-          "hysteresis_piston", "search_multilevel", "search_cell", "mesh_walls"}
+          "hysteresis_piston", "search_multilevel", "search_cell", "mesh_walls", "open_faces", "insertion"}
 # Every case writes frames and a final checkpoint.
 COMMON = ["output.vtk_interval=0.01"]
 # run.json keys that count the work of the process that writes run.json, in a split run, and

@@ -3,7 +3,8 @@
 of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT, then
 resume; one process killed, or the whole job killed at a random time, then resume; runs with
 rolling resistance (also on a grid given by `[parallel] counts`), a run with hindered
-settling and an inflow (3 processes, resumed on 2). What cannot be split yet, or counts that
+settling and an inflow (3 processes, resumed on 2); an open chute (3 processes, resumed on 2)
+and an insertion. What cannot be split yet, or counts that
 fit no grid, is refused (exit 2, naming the key); a failure on process 1 ends the whole job
 with its message, process 0 recording it in run.json and keeping the series and checkpoints
 as one process does; process 0 of a split run with moving walls builds its lists about as
@@ -26,6 +27,8 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 SETTLE = str(ROOT / "tests/scenarios/settle_mono.toml")
 INFLOW = str(ROOT / "tests/scenarios/inflow_small.toml")
+CHUTE = str(ROOT / "tests/scenarios/chute_open.toml")
+BIN = str(ROOT / "tests/scenarios/insertion_bin.toml")
 # A short poured bed with a checkpoint every 500 steps and frames.
 SETS = ["simulation.duration=0.03", "output.checkpoint_every_steps=500", "output.vtk_interval=0.01"]
 # The same bed poured for longer, for the faults: a kill up to 0.5 s after the first checkpoint
@@ -170,16 +173,29 @@ def main():
         same_files(tmp / "hindered1", tmp / "hindered2", "hindered settling on 2 processes")
 
         # The inflow: every process admits the same grains; its stream's state is checkpointed.
-        # Three processes, their newest checkpoint lost, resumed on two.
-        for processes in (1, 3):
-            code, err = run(tsubu, launcher, processes, ["run", INFLOW, "--out", str(tmp / f"inflow{processes}")] +
-                            with_sets(["simulation.duration=0.15", "output.checkpoint_every_steps=2000"]))
+        # Open faces: grains that leave the chute are counted alike (series.csv, outflow.csv, the
+        # checkpoints' totals; outflow.csv cut back to the checkpoint's length on resume). Each
+        # on three processes, their newest checkpoint lost, resumed on two.
+        for name, scenario, sets, what in [
+            ("inflow", INFLOW, ["simulation.duration=0.15", "output.checkpoint_every_steps=2000"], "an inflow"),
+            ("chute", CHUTE, ["simulation.duration=0.12", "output.checkpoint_every_steps=4000"], "a discharge"),
+        ]:
+            for processes in (1, 3):
+                code, err = run(tsubu, launcher, processes, ["run", scenario, "--out", str(tmp / f"{name}{processes}")] +
+                                with_sets(sets))
+                assert code == 0, err
+            checkpoints = sorted((tmp / f"{name}3" / "checkpoint").glob("step_*.tsbk"))
+            checkpoints[-1].unlink()
+            code, err = run(tsubu, launcher, 2, ["resume", str(tmp / f"{name}3")])
+            check(code == 0, f"{what}'s checkpoint of 3 processes resumes on 2 ({code}: {err[-400:]})")
+            same_files(tmp / f"{name}1", tmp / f"{name}3", f"{what} on 3 processes, resumed on 2")
+        check((tmp / "chute1" / "outflow.csv").read_text().count("\n") > 50, "grains left the chute")
+        # Insertion into a bin: every process places the same grains.
+        for processes in (1, 2):
+            code, err = run(tsubu, launcher, processes, ["run", BIN, "--out", str(tmp / f"bin{processes}")] +
+                            with_sets(["simulation.duration=0.15"]))
             assert code == 0, err
-        checkpoints = sorted((tmp / "inflow3" / "checkpoint").glob("step_*.tsbk"))
-        checkpoints[-1].unlink()
-        code, err = run(tsubu, launcher, 2, ["resume", str(tmp / "inflow3")])
-        check(code == 0, f"an inflow's checkpoint of 3 processes resumes on 2 ({code}: {err[-400:]})")
-        same_files(tmp / "inflow1", tmp / "inflow3", "the inflow on 3 processes, resumed on 2")
+        same_files(tmp / "bin1", tmp / "bin2", "insertion into a bin on 2 processes")
 
         # Moving walls on 3 processes: hand-overs (each a list build) only when a grain has moved
         # half the skin, not every step.
@@ -195,7 +211,6 @@ def main():
         # What a split run does not support yet, and the one-process commands.
         for scenario, sets, key in [
             ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
-            ("tests/scenarios/chute_open.toml", [], "domain.open"),
             ("tests/scenarios/settle_mono.toml", ["parallel.counts=[2, 2, 1]"],
              "parallel.counts: no grid of 2 subdomains (mpirun -np 2) has 2 x 2 x 1"),
         ]:

@@ -89,6 +89,11 @@ void expect_same_bits(const Case& c) {
   EXPECT_LE(most_builds, 1.5 * static_cast<double>(alone.forces().rebuilds()) + 10) << "lists built far more often than alone";
   ASSERT_EQ(all.world.particles.size(), alone.world().particles.size());
   EXPECT_TRUE(state_of(all.world) == state_of(alone.world())) << "the split run's state differs from one process's";
+  if (const Outflow* gone = alone.outflow()) {  // every process records every departure
+    EXPECT_GT(gone->totals().count, 0);
+    EXPECT_EQ(split.outflow()->totals().count, gone->totals().count);
+    EXPECT_EQ(split.outflow()->totals().mass, gone->totals().mass);
+  }
   ForceField view(alone.model());  // the gathered contacts' outputs, as one process writes them
   view.adopt_results(std::move(all.pair_results), std::move(all.wall_results));
   EXPECT_GT(view.totals(all.world).contacts, 0u);
@@ -178,6 +183,17 @@ TEST(Decomposition, TheInflowKeepsTheBits) {
                     {n, 1, 1}});
   expect_same_bits({"tests/scenarios/sediment_inflow.toml",
                     {"simulation.duration=0.02", "simulation.dt=1e-6", "fluid.hindered_settling=true"}, {n, 1, 1}});
+}
+
+// Grains slide down the chute and leave through its open end, the box cut along the chute:
+// the processes agree on every grain gone before each evaluation, drop it and its copies and
+// record it alike. Grains inserted into a bin at a mass rate, the bin cut through its
+// height: every process places the same grains (their places' verdicts agreed) and keeps
+// those in its subdomain.
+TEST(Decomposition, OpenFacesAndInsertionKeepTheBits) {
+  const int n = Communicator::world().size();
+  expect_same_bits({"tests/scenarios/chute_open.toml", {"simulation.duration=0.12"}, {n, 1, 1}});
+  expect_same_bits({"tests/scenarios/insertion_bin.toml", {"simulation.duration=0.15"}, {1, 1, n}});
 }
 
 // A checkpoint's bytes of a run at its current step (the force counters, which count each

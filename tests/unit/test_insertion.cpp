@@ -14,7 +14,6 @@
 
 #include "mesh_plate.hpp"
 #include "scenario_run.hpp"
-#include "tsubu/app/observed_run.hpp"
 #include "tsubu/source/admission.hpp"
 #include "tsubu/source/insertion.hpp"
 
@@ -297,17 +296,6 @@ TEST(Insertion, TheBinFillsWithTheSameBitsForOneAndTwoThreads) {
   std::printf("%zu grains in the bin\n", one.particles.size());
   EXPECT_GT(one.particles.size(), 100u);
   EXPECT_TRUE(testing::same_particle_bits(one, two));
-}
-
-// Not yet in a run split among processes: refused before the split, naming the source.
-TEST(Insertion, ASplitRunIsRefused) {
-  const Scenario sc = testing::test_scenario("insertion_bin.toml");
-  try {
-    refuse_what_cannot_split(sc, 2);
-    FAIL() << "a split insertion was not refused";
-  } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("particles[0].source = \"insertion\""), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

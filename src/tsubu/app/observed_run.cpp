@@ -25,11 +25,6 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
                                             "an automatic count, or start as many processes as the counts make");
   }
   if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
-  if (sc.domain.any_open()) refuse("domain.open");
-  // Its grains enter alike on every process, but the series' elastic energy of a split
-  // insertion has differed at a row from one process's (docs/parallel.md): refused until then.
-  if (const ParticleSource* src = inflow_source(sc); src && src->kind == ParticleSource::Kind::insertion)
-    refuse(src->where.key + ".source = \"insertion\"");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
                      std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "
@@ -90,7 +85,12 @@ bool ObservedRun::agree_last(bool last) {
 
 void ObservedRun::gather() {
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
-  if (!mirror_) return;
+  Outflow* outflow = part_.outflow();  // every process's records every departure
+  if (!mirror_) {
+    if (outflow) outflow->take_departures();  // process 0's are written
+    return;
+  }
+  if (outflow) mirror_->outflow()->follow(*outflow);
   loads_ = std::move(all.loads);
   mirror_->world() = std::move(all.world);
   if (const InflowFeed* inflow = part_.inflow()) mirror_->feed(*inflow);  // every process's stream is alike

@@ -83,6 +83,8 @@ struct ContactResult {
 
 // The particles of other processes, in a run split among them (ranks/decomposition.hpp):
 // brought up to date before every evaluation.
+class ForceField;
+
 class Neighbourhood {
  public:
   virtual ~Neighbourhood() = default;
@@ -94,8 +96,15 @@ class Neighbourhood {
   virtual void agree_any(std::vector<char>& flags) const = 0;
   // `arrivals`, the same particles on every process (grains that join the run between
   // steps, ForceField::welcome'd), join it: each process takes those in its subdomain and the
-  // particles are arranged again (the next update returns true).
-  virtual void add(World& world, Particles arrivals) = 0;
+  // particles are arranged again (the next update returns true). `forces`: the field whose
+  // last evaluation the contacts' results until the next one are (outputs read them).
+  virtual void add(World& world, Particles arrivals, const ForceField& forces) = 0;
+  // The particles with ids `ids` (sorted; the same on every process) leave the run: each
+  // process drops them, its own and its copies, with their contacts, and the particles are
+  // arranged again (the next update returns true).
+  virtual void remove(World& world, const std::vector<std::int64_t>& ids) = 0;
+  // Every process's `bytes`, by process, on every process.
+  virtual std::vector<std::string> gather_all(const std::string& bytes) = 0;
 };
 
 // Neighbour lists (world.contacts: pairs and walls within `skin` of touching) are rebuilt,

@@ -121,6 +121,17 @@ std::vector<ContactLink> links_of(const World& world) {
   return links;
 }
 
+// Each touching contact of the owned particles with its result of `forces`'s last
+// evaluation (a ContactLink, then a ContactResult); `count` is set to their number.
+std::string link_records(const World& world, const ForceField& forces, std::uint64_t& count) {
+  std::string out;
+  count = 0;
+  for_each_link(world, [&](const ContactLink& l, bool wall, std::size_t k) {
+    put(out, l), put(out, wall ? forces.wall_result(k) : forces.pair_result(k)), ++count;
+  });
+  return out;
+}
+
 }  // namespace
 
 Decomposition::Decomposition(const Communicator& comm, const Domain& domain, double skin, double reach_per_radius,
@@ -245,20 +256,39 @@ bool Decomposition::update(World& world) {
   bool moved = false;
   for (std::size_t i = 0; i < world.owned() && !moved; ++i)
     moved = norm2(world.domain.separation(p.position[i], arranged_at_[i])) > limit2;
-  const bool added = std::exchange(added_, false);  // the same on every process
-  if (!refresh_ghosts(world, moved)) return added;  // no particle has moved half the skin, on any process
+  const bool rearranged = std::exchange(rearranged_, false);  // the same on every process
+  links_kept_ = false;  // an evaluation follows
+  if (!refresh_ghosts(world, moved)) return rearranged;  // no particle has moved half the skin, on any process
   hand_over(world, {});
   return true;
 }
 
 void Decomposition::agree_any(std::vector<char>& flags) const { comm_.any_each(flags); }
 
-void Decomposition::add(World& world, Particles arrivals) {
+void Decomposition::add(World& world, Particles arrivals, const ForceField& forces) {
+  if (!links_kept_) {  // the results of the contacts as evaluated, before the lists are arranged again
+    evaluated_links_ = link_records(world, forces, evaluated_link_count_);
+    links_kept_ = true;
+  }
   for (double r : arrivals.radius) largest_radius_ = std::max(largest_radius_, r);  // alike on every process
   width_ = reach_per_radius_ * largest_radius_ + skin_;
   refresh_ghosts(world, false);  // the partners' owners below are read from the ghosts' positions
   hand_over(world, arrivals);
-  added_ = true;
+  rearranged_ = true;
+}
+
+void Decomposition::remove(World& world, const std::vector<std::int64_t>& ids) {
+  refresh_ghosts(world, false);  // the partners' owners in the hand-over are read from the ghosts' positions
+  const std::vector<std::int64_t>& id = world.particles.id;
+  std::vector<char> gone(id.size());
+  for (std::size_t i = 0; i < id.size(); ++i) gone[i] = std::binary_search(ids.begin(), ids.end(), id[i]);
+  remove_particles(world, gone);
+  hand_over(world, {});
+  rearranged_ = true;
+}
+
+std::vector<std::string> Decomposition::gather_all(const std::string& bytes) {
+  return exchange(std::vector<std::string>(static_cast<std::size_t>(comm_.size()), bytes));
 }
 
 void Decomposition::hand_over(World& world, const Particles& arrivals) {
@@ -306,9 +336,8 @@ Decomposition::Gathered Decomposition::gathered(const World& world, const ForceF
   // from both its processes, alike (the same bits), and is kept once.
   Parcel mine;
   for (std::size_t i = 0; i < world.owned(); ++i) pack(world.particles, i, mine.particles), ++mine.particle_count;
-  for_each_link(world, [&](const ContactLink& l, bool wall, std::size_t k) {
-    put(mine.links, l), put(mine.links, wall ? forces.wall_result(k) : forces.pair_result(k)), ++mine.link_count;
-  });
+  if (links_kept_) mine.links = evaluated_links_, mine.link_count = evaluated_link_count_;
+  else mine.links = link_records(world, forces, mine.link_count);
   Gathered all;
   World& w = all.world;
   w.domain = world.domain;

@@ -62,7 +62,9 @@ class Decomposition final : public Neighbourhood {
   // Neighbourhood: before each evaluation.
   bool update(World& world) override;
   void agree_any(std::vector<char>& flags) const override;
-  void add(World& world, Particles arrivals) override;
+  void add(World& world, Particles arrivals, const ForceField& forces) override;
+  void remove(World& world, const std::vector<std::int64_t>& ids) override;
+  std::vector<std::string> gather_all(const std::string& bytes) override;
   // The owned particles and their touching contacts of every process, on process 0, as one
   // world: particles in the order of their ids, contacts as a checkpoint stores them, with
   // the results of their last evaluation (`forces`'s) for the world's lists, which a force
@@ -86,7 +88,14 @@ class Decomposition final : public Neighbourhood {
   std::vector<std::size_t> ghosts_from_;          // per process, how many copies of its particles this one has
   std::size_t arrangements_ = 0;
   std::uint64_t bytes_sent_ = 0;  // to other processes, in exchange()
-  bool added_ = false;  // particles were added since the last update
+  bool rearranged_ = false;  // particles were added or removed since the last update
+  // The touching contacts of the owned particles with their results (records as gathered()
+  // sends them), as the last evaluation left them, when particles were added after it: the
+  // arrangement renumbers the lists, so the results are gathered from here until the next
+  // update.
+  std::string evaluated_links_;
+  std::uint64_t evaluated_link_count_ = 0;
+  bool links_kept_ = false;
   bool balance_;
 
   // Settles `owned` (this process's particles, any order) and `links` (touching contacts of

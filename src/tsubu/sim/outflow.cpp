@@ -7,32 +7,40 @@
 
 namespace tsubu {
 
-bool Outflow::remove_departed(World& w, std::vector<std::uint32_t>* kept) {
-  Particles& p = w.particles;
-  const std::size_t n = p.size();
-  std::vector<std::uint32_t> gone;
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (w.domain.departed(p.position[i]) >= 0) gone.push_back(i);
-  if (gone.empty()) return false;
-  std::sort(gone.begin(), gone.end(), [&](std::uint32_t a, std::uint32_t b) { return p.id[a] < p.id[b]; });
-  for (std::uint32_t i : gone) {
-    pending_.push_back({w.step, w.time, p.id[i], 2 * p.radius[i], p.mass[i], p.position[i], p.velocity[i],
-                        w.domain.departed(p.position[i])});
+std::vector<Departure> Outflow::departures(const World& w, std::size_t count) {
+  const Particles& p = w.particles;
+  std::vector<Departure> gone;
+  for (std::size_t i = 0; i < count; ++i)
+    if (const int face = w.domain.departed(p.position[i]); face >= 0)
+      gone.push_back({w.step, w.time, p.id[i], 2 * p.radius[i], p.mass[i], p.position[i], p.velocity[i], face});
+  std::sort(gone.begin(), gone.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });
+  return gone;
+}
+
+void Outflow::record(const std::vector<Departure>& gone) {
+  for (const Departure& d : gone) {
+    pending_.push_back(d);
     ++totals_.count;
-    totals_.mass += p.mass[i];
-    if (p.id[i] >= inflow_first_id_) totals_.inflow_mass += p.mass[i];
+    totals_.mass += d.mass;
+    if (d.id >= inflow_first_id_) totals_.inflow_mass += d.mass;
   }
-  std::vector<std::uint32_t> new_index(n, ContactList::kGone), order;  // order[new] = old
-  order.reserve(n - gone.size());
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (w.domain.departed(p.position[i]) < 0) new_index[i] = static_cast<std::uint32_t>(order.size()), order.push_back(i);
-  p.for_each_array([&](auto& array) {
-    permute(array, order);
-    array.resize(order.size());
-  });
-  w.contacts.renumber(new_index, p);
+}
+
+bool Outflow::remove_departed(World& w, std::vector<std::uint32_t>* kept) {
+  const std::vector<Departure> gone = departures(w, w.particles.size());
+  if (gone.empty()) return false;
+  record(gone);
+  const Particles& p = w.particles;
+  std::vector<char> flags(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) flags[i] = w.domain.departed(p.position[i]) >= 0;
+  std::vector<std::uint32_t> order = remove_particles(w, flags);
   if (kept) *kept = std::move(order);
   return true;
+}
+
+void Outflow::follow(Outflow& source) {
+  totals_ = source.totals_;
+  for (Departure& d : source.take_departures()) pending_.push_back(d);
 }
 
 }  // namespace tsubu

@@ -35,11 +35,19 @@ class Outflow {
   // The grains of the inflow have ids from `first_id` on (their mass is also counted apart).
   void count_inflow_from(std::int64_t first_id) { inflow_first_id_ = first_id; }
 
-  // Removes from w's particles (one process: no ghosts) those beyond an open face, recorded
-  // in the order of their ids; the others keep their order, and the contact lists follow
-  // (ContactList::renumber). Returns whether any grain left; then `kept` (if given) holds the
-  // old index of each particle that stays (kept[new] = old).
+  // The grains among w's first `count` particles that are beyond an open face, in the order
+  // of their ids, at w's step and time (not yet recorded).
+  static std::vector<Departure> departures(const World& w, std::size_t count);
+  // Records `gone` in their order (rows of outflow.csv, the totals).
+  void record(const std::vector<Departure>& gone);
+  // One process: removes from w's particles those beyond an open face, recorded in the order
+  // of their ids; the others keep their order, and the contact lists follow
+  // (remove_particles). Returns whether any grain left; then `kept` (if given) holds the old
+  // index of each particle that stays (kept[new] = old).
   bool remove_departed(World& w, std::vector<std::uint32_t>* kept = nullptr);
+  // A split run's mirror (app/observed_run.hpp) takes the totals of its process's outflow,
+  // which records every process's departures, and the departures it recorded since.
+  void follow(Outflow& source);
 
   const Totals& totals() const { return totals_; }
   void restore(const Totals& t) { totals_ = t; }

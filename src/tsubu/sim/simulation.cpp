@@ -1,7 +1,10 @@
 #include "tsubu/sim/simulation.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 
 #include "tsubu/world/spatial_sort.hpp"
 
@@ -44,7 +47,8 @@ void Simulation::step() {
 void Simulation::evaluate(double fluid_lead) {
   if (outflow_) {
     forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
-    if (outflow_->remove_departed(world_)) forces_.renumbered(world_);
+    if (Neighbourhood* split = forces_.neighbourhood()) remove_departed_among_processes(*split);
+    else if (outflow_->remove_departed(world_)) forces_.renumbered(world_);
   }
   if (sort_due()) renumber();
   forces_.compute(world_, fluid_lead);
@@ -61,6 +65,23 @@ void Simulation::remove_departed_at_block_end() {
   if (!outflow_->remove_departed(world_, &kept)) return;
   forces_.renumbered(world_);
   block_->particles_removed(world_, forces_, kept);
+}
+
+void Simulation::remove_departed_among_processes(Neighbourhood& split) {
+  static_assert(std::is_trivially_copyable_v<Departure>);
+  const std::vector<Departure> mine = Outflow::departures(world_, world_.owned());
+  std::vector<Departure> gone;
+  for (const std::string& bytes : split.gather_all(std::string(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(Departure)))) {
+    const std::size_t first = gone.size();
+    gone.resize(first + bytes.size() / sizeof(Departure));
+    std::memcpy(gone.data() + first, bytes.data(), bytes.size());
+  }
+  if (gone.empty()) return;  // the same on every process
+  std::sort(gone.begin(), gone.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });
+  outflow_->record(gone);
+  std::vector<std::int64_t> ids;
+  for (const Departure& d : gone) ids.push_back(d.id);
+  split.remove(world_, ids);
 }
 
 bool Simulation::sort_due() const {
@@ -82,7 +103,7 @@ void Simulation::admit_inflow() {
     inflow_->admit(world_, arrivals, [split](std::vector<char>& taken) { split->agree_any(taken); });
     if (arrivals.size() == 0) return;
     forces_.welcome(arrivals, 0);
-    split->add(world_, std::move(arrivals));
+    split->add(world_, std::move(arrivals), forces_);
     return;
   }
   const std::size_t first = world_.particles.size();

@@ -30,8 +30,9 @@ class Simulation {
   // open face since included.
   double inflow_mass_entered() const;
 
-  // The box's open faces (domain.open; fixed steps only): grains beyond one are removed
-  // before each force evaluation and recorded here. Null for a box without open faces.
+  // The box's open faces (domain.open): grains beyond one are removed before each force
+  // evaluation of fixed steps, or at the end of each block step, and recorded here (in a
+  // split run, every process's). Null for a box without open faces.
   Outflow* outflow() { return outflow_ ? &*outflow_ : nullptr; }
   const Outflow* outflow() const { return outflow_ ? &*outflow_ : nullptr; }
 
@@ -85,6 +86,9 @@ class Simulation {
   void evaluate(double fluid_lead);
   // Block steps: the grains gone through an open face removed at the end of each step.
   void remove_departed_at_block_end();
+  // A run split among processes: each finds its own particles gone through an open face,
+  // every process records all of them (in the order of their ids) and drops them.
+  void remove_departed_among_processes(Neighbourhood& split);
   bool sort_due() const;
   // One renumbering for every per-particle store: the world's particles and contacts, the
   // force field's lists, the block-step state.

@@ -47,4 +47,24 @@ std::vector<std::uint32_t> sort_spatially(World& world) {
   return order;
 }
 
+std::vector<std::uint32_t> remove_particles(World& world, const std::vector<char>& gone) {
+  Particles& p = world.particles;
+  const std::size_t n = p.size(), owned = world.owned();
+  std::vector<std::uint32_t> new_index(n, ContactList::kGone), order;  // order[new] = old
+  std::size_t ghosts = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (gone[i]) continue;
+    new_index[i] = static_cast<std::uint32_t>(order.size());
+    order.push_back(i);
+    if (i >= owned) ++ghosts;
+  }
+  p.for_each_array([&](auto& array) {
+    permute(array, order);
+    array.resize(order.size());
+  });
+  world.ghosts = ghosts;
+  world.contacts.renumber(new_index, p);
+  return order;
+}
+
 }  // namespace tsubu

@@ -15,6 +15,11 @@ namespace tsubu {
 // (i, j) again. Returns order[new] = old.
 std::vector<std::uint32_t> sort_spatially(World& world);
 
+// Removes the particles flagged in `gone` (one flag per particle), the others keeping their
+// order (a split run's copies of other processes' particles stay last: World::ghosts counts
+// those kept), with their contacts (ContactList::renumber). Returns order[new] = old.
+std::vector<std::uint32_t> remove_particles(World& world, const std::vector<char>& gone);
+
 // Another per-particle store follows the same renumbering: a[new] = a[order[new]] (order as
 // sort_spatially returns it). In place: the array keeps its storage, so views into it (the
 // Python binding's NumPy arrays) stay valid across a sort. Any order of the same form will
