@@ -91,6 +91,26 @@ def test_the_array_script(tmp_path):
     assert done.returncode == 0 and f"{CASES[0]}: mpirun -np 2 {TSUBU} run {SCENARIO}" in done.stdout
 
 
+def test_the_array_script_keeps_the_code_of_a_run_that_ends_as_the_shell_is_signalled(tmp_path):
+    """SIGTERM reaches the shell as its run ends (scancel, the time limit): the exit file holds
+    the run's code. A wait that the signal ended early once made the script record 143 (bash
+    returns that for the interrupted wait and loses the code of a run that ends then: about
+    one time in four with a run that signals its shell and exits at once)."""
+    fake = tmp_path / "fake-tsubu"
+    fake.write_text("#!/bin/bash\nkill -TERM $PPID\nexit 4\n")
+    fake.chmod(0o755)
+    out = tmp_path / "out"
+    (out / "logs").mkdir(parents=True)
+    (out / "slurm").mkdir()
+    (tmp_path / "array.sh").write_text(array_script(write_sweep(tmp_path / "s.toml", out, grid=ONE), cwd=tmp_path)
+                                       .replace(str(TSUBU), str(fake)))
+    codes = []
+    for _ in range(20):
+        subprocess.run(["bash", "array.sh"], cwd=tmp_path, env={**ENV, "SLURM_ARRAY_TASK_ID": "0"}, check=True)
+        codes.append((out / "slurm" / f"{CASES[0]}.exit").read_text())
+    assert codes == ["4\n"] * 20
+
+
 def test_the_array_script_runs_a_case_and_passes_on_the_signals(tmp_path):
     """Run by bash as Slurm would (task 0): the case's log and exit code as the local runner
     writes them. --signal's USR1 to the shell asks the run to stop with a checkpoint (exit 4);

@@ -118,10 +118,13 @@ class Slurm:
             f"log={_quote(str(sweep.output / 'logs'))}/$name.log",
             "printf '$ %s\\n' \"${run[*]}\" >> \"$log\"",
             "trap : TERM                  # scancel and the time limit send SIGTERM to the run too: wait for it",
-            "trap 'kill -TERM $pid' USR1  # --signal: the time limit is near: the run stops with a checkpoint",
             "\"${run[@]}\" >> \"$log\" 2>&1 < /dev/null &",
             "pid=$!",
-            "while wait $pid; code=$?; kill -0 $pid 2> /dev/null; do :; done  # a trapped signal ends a wait early",
+            "trap '' TERM                 # ignored from here (the run started with the default): a caught one",
+            "                             # would end the wait below, and bash loses the code of a run that ends then",
+            "trap 'kill -TERM $pid' USR1  # --signal: the time limit is near: the run stops with a checkpoint",
+            "while wait $pid; kill -0 $pid 2> /dev/null; do :; done  # USR1's trap ends a wait early",
+            "wait $pid; code=$?           # the run's own exit code: bash keeps it once the run has ended",
             f"echo $code > {_quote(str(self.folder))}/\"$name.exit\"", ""])
 
     def dry_run(self, sweep, work):
