@@ -46,7 +46,7 @@ int interrupt_after_checkpoints(pid_t pid, const fs::path& out, int sig, int max
   }
   std::random_device rd;
   const int delay = std::uniform_int_distribution<int>(0, max_delay_ms)(rd);
-  std::printf("sending signal %d %d ms after the first checkpoint\n", sig, delay);
+  std::printf("sending signal %d %d ms after checkpoint %zu\n", sig, delay, checkpoints);
   std::this_thread::sleep_for(std::chrono::milliseconds(delay));
   kill(pid, sig);
   return wait_for(pid);
