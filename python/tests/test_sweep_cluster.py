@@ -323,6 +323,34 @@ def test_slurm_time_limit_no_wait_and_ctrl_c(slurm, tmp_path):
     assert log.read_text().count(f"$ {TSUBU} resume {case} --threads 1") == 1
 
 
+def test_a_run_split_among_the_tasks_of_a_slurm_job(slurm, tmp_path):
+    """examples/cluster/split_run.sbatch (docs/parallel.md, "On a cluster") on 2 tasks: the
+    script's USR1 (the time limit is near) stops the run with a checkpoint; submitted again,
+    the job resumes it to the end; the files are one process's."""
+    env = {**slurm, "TSUBU": TSUBU, "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1", "ASAN_OPTIONS": "detect_leaks=0"}
+    script = Path(__file__).resolve().parents[2] / "examples" / "cluster" / "split_run.sbatch"
+    out, sets = tmp_path / "split", ["--set", "simulation.duration=1.0", "--set", "output.checkpoint_every_steps=2000"]
+    submit = ["sbatch", "--parsable", "--ntasks=2", "--cpus-per-task=1", "--time=10", f"--chdir={tmp_path}",
+              f"--output={tmp_path}/job.out", "--open-mode=append", str(script), str(SCENARIO), str(out), *sets]
+    done = subprocess.run(submit, env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    job = done.stdout.strip().split(";")[0]
+    wait_for(lambda: any((out / "checkpoint").glob("step_*.tsbk")), "the first checkpoint")
+    subprocess.run(["scancel", "--signal=USR1", "--batch", job], env=env, check=True)
+    wait_for(lambda: not subprocess.run(["squeue", "-h", "-j", job], env=env, capture_output=True, text=True).stdout.strip(),
+             "the job to end")
+    stopped = json.loads((out / "run.json").read_text())
+    assert stopped["status"] == "interrupted", (tmp_path / "job.out").read_text()
+    done = subprocess.run(["sbatch", "--wait", *submit[2:]], env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr + (tmp_path / "job.out").read_text()
+    assert json.loads((out / "run.json").read_text())["status"] == "ok"
+    assert "tsubu: resuming" in (tmp_path / "job.out").read_text()
+    alone = tmp_path / "alone"
+    subprocess.run([TSUBU, "run", str(SCENARIO), "--out", str(alone), *sets], env=ENV, check=True, capture_output=True)
+    same_outputs(alone, out)
+
+
 # An MPI pool: rank 0 the sweep, the others its workers.
 
 def mpi_sweep(file, *args, ranks=3):
