@@ -65,6 +65,53 @@ TEST(HinderedVolumes, CapAgainstIntegralAndItsSlopeAgainstDifferences) {
   }
 }
 
+// The part of a ball (radius R, centre rho from the axis) beyond the surface of a cylinder of
+// radius Rc, independently: over the cylinder's cross-section in polar coordinates (r, theta)
+// about its axis, the ball's extent along the axis, 2 sqrt(R^2 - q^2) with q the distance in
+// the section from the ball's centre; Simpson in both (the region behind: r > Rc for a grain
+// inside, r < Rc outside), theta only where the ball is. Its own accuracy, from its square
+// roots' kinks: about 1e-5 R^3 (halving its steps moves it by that much).
+double cylinder_cut_by_integral(double R, double Rc, double rho, bool inside) {
+  const double lo = inside ? std::max(Rc, rho - R) : std::max(0.0, rho - R);
+  const double hi = inside ? rho + R : std::min(Rc, rho + R);
+  if (hi <= lo) return 0;
+  auto ring = [&](double r) {
+    // theta up to where the ring leaves the ball: cos(theta) = (r^2 + rho^2 - R^2) / (2 r rho)
+    const double c = r * rho > 0 ? (r * r + rho * rho - R * R) / (2 * r * rho) : -1.0;
+    const double top = c <= -1 ? M_PI : c >= 1 ? 0 : std::acos(c);
+    return r * simpson([&](double t) { return 2 * std::sqrt(std::max(0.0, R * R - (r * r + rho * rho - 2 * r * rho * std::cos(t)))); },
+                       0, top, 1000);
+  };
+  return 2 * simpson(ring, lo, hi, 1000);  // theta in (-top, top): twice (0, top)
+}
+
+// Inside and outside cylinders from narrower than the ball to 100 times wider, grains from
+// beyond the surface (a centre behind it, which no run reaches) to out of reach: the volume
+// against the independent integral, its slope against central differences, and a very wide
+// cylinder against the plane's cap.
+TEST(HinderedVolumes, CylinderCutAgainstAnIntegralAndItsSlopeAgainstDifferences) {
+  const double R = 1;
+  double worst = 0;
+  for (const bool inside : {true, false})
+    for (const double Rc : {0.8, 1.5, 4.0, 100.0})
+      for (double dist = -0.9; dist < 1.1; dist += 0.17) {
+        if (inside ? dist > Rc : dist < -Rc) continue;  // the centre beyond the axis
+        const VolumeSlope v = cylinder_cut_volume(R, Rc, dist, inside);
+        const double rho = inside ? Rc - dist : Rc + dist;
+        const double reference = cylinder_cut_by_integral(R, Rc, rho, inside);
+        worst = std::max(worst, std::abs(v.volume - reference));
+        EXPECT_NEAR(v.volume, reference, 1e-4) << inside << " " << Rc << " " << dist;
+        const double h = Rc > 10 ? 1e-4 : 1e-6;  // a wide cylinder's areas are differences of large ones
+        const double slope =
+            (cylinder_cut_volume(R, Rc, dist + h, inside).volume - cylinder_cut_volume(R, Rc, dist - h, inside).volume) / (2 * h);
+        EXPECT_NEAR(v.slope, slope, 1e-6 * (Rc > 10 ? 100 : 1)) << inside << " " << Rc << " " << dist;
+        if (Rc == 100.0) EXPECT_NEAR(v.volume, cap_volume(R, dist).volume, 0.02 * cap_volume(R, dist).volume + 1e-12);
+      }
+  std::printf("largest difference from the independent integral: %.2g R^3\n", worst);
+  EXPECT_EQ(cylinder_cut_volume(R, 4.0, 1.0, true).volume, 0.0);
+  EXPECT_EQ(cylinder_cut_volume(R, 4.0, -1.0, false).volume, ball_volume(R));
+}
+
 // drag(u) = (rho_p - rho_f) V g solved by bisection, independently of fluid.cpp's Newton.
 double terminal_by_bisection(double d) {
   const double area = M_PI * d * d / 4, weight = (kRhoP - kRhoF) * M_PI * d * d * d / 6 * kG;
@@ -229,6 +276,61 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
   std::printf("largest |dphi/dt| %.3g 1/s, worst difference from the finite difference %.3g 1/s\n", largest, worst);
   EXPECT_GT(largest, 0.1);
   EXPECT_LT(worst, 1e-4 * largest);
+}
+
+// Grains in a vertical pipe (a cylinder wall, the grains inside): the solid fraction of the
+// force field around grains near the pipe's wall against Monte Carlo, the room being the ball
+// less what lies beyond the wall.
+TEST(HinderedSettling, TheLocalSolidFractionInAPipeAgainstMonteCarlo) {
+  auto [w, model] = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-6);
+  const double Rc = 0.008;
+  w.domain = {{-0.01, -0.01, 0}, {0.01, 0.01, 0.03}, {false, false, false}};
+  Wall pipe;
+  pipe.shape = WallShape::cylinder;
+  pipe.axis = {0, 0, 1};
+  pipe.radius = Rc;
+  w.walls.push_back(pipe);
+  model.fluid = water(true);
+  Random rng(11);
+  while (w.particles.size() < 120) {
+    const double d = 0.001 + 0.0015 * rng.uniform();
+    const Vec3 x{(2 * rng.uniform() - 1) * Rc, (2 * rng.uniform() - 1) * Rc, 0.008 + 0.014 * rng.uniform()};
+    bool free = std::hypot(x.x, x.y) < Rc - d / 2;
+    for (std::size_t j = 0; j < w.particles.size() && free; ++j) free = norm(x - w.particles.position[j]) > w.particles.radius[j] + d / 2;
+    if (free) w.particles.add(static_cast<std::int64_t>(w.particles.size()), 0, d, kRhoP, x, {});
+  }
+  ForceField forces(model);
+  forces.compute(w);
+  const Particles& p = w.particles;
+  int near_wall = 0;
+  for (std::size_t i = 0; i < p.size() && near_wall < 5; ++i) {
+    const double R = 3 * p.radius[i], own = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
+    const double dist = Rc - std::hypot(p.position[i].x, p.position[i].y);
+    if (dist > 0.6 * R) continue;  // a grain whose ball reaches well beyond the wall
+    ++near_wall;
+    int inside = 0, filled = 0;
+    for (int k = 0; k < 40000; ++k) {
+      const Vec3 y = p.position[i] + R * Vec3{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};
+      if (norm(y - p.position[i]) > R || std::hypot(y.x, y.y) > Rc) continue;
+      ++inside;
+      for (std::size_t j = 0; j < p.size(); ++j)
+        if (j != i && norm(y - p.position[j]) < p.radius[j]) {
+          ++filled;
+          break;
+        }
+    }
+    const double ball = 4.0 / 3.0 * M_PI * R * R * R;
+    const double room = ball * inside / (M_PI / 6 * 40000);  // the share of the cube's points within the room
+    const double share = double(filled) / inside, se = std::sqrt(share * (1 - share) / inside);
+    const double expected = suspension_fraction(share * room, 0, room, 0, own).solid_fraction;
+    const Crowding c = forces.crowding(i);
+    const double exact_room = ball - cylinder_cut_volume(R, Rc, dist, true).volume;
+    std::printf("grain %zu, %.4f m from the pipe's wall: room %.4g (Monte Carlo %.4g) m^3; phi %.4f, expected %.4f +- %.4f\n", i,
+                dist, exact_room, room, c.solid_fraction, expected, 5 * se);
+    EXPECT_NEAR(room, exact_room, 0.03 * exact_room);
+    EXPECT_NEAR(c.solid_fraction, expected, 5 * se + 0.02 * expected);
+  }
+  EXPECT_EQ(near_wall, 5);
 }
 
 // A cubic lattice of equal grains falling through still water in a box periodic along all

@@ -1,6 +1,7 @@
 #include "tsubu/fluid/crowding.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "tsubu/core/parallel.hpp"
@@ -12,6 +13,96 @@ VolumeSlope cap_volume(double R, double dist) {
   if (dist <= -R) return {ball_volume(R), 0};
   const double h = R - dist;
   return {M_PI / 3 * h * h * (3 * R - h), -M_PI * (R * R - dist * dist)};
+}
+
+namespace {
+
+// The area common to circles of radii a and b whose centres are d apart, and (minus) its
+// derivative with respect to d: the length of their common chord (zero when apart or when
+// one holds the other).
+struct LensArea {
+  double area, chord;
+};
+LensArea circle_lens(double a, double b, double d) {
+  if (d >= a + b) return {0, 0};
+  if (d <= std::abs(a - b)) {
+    const double r = std::min(a, b);
+    return {M_PI * r * r, 0};
+  }
+  const double k = std::sqrt((-d + a + b) * (d + a - b) * (d - a + b) * (d + a + b));  // 4 x the triangle's area
+  const double ca = std::clamp((d * d + a * a - b * b) / (2 * d * a), -1.0, 1.0);
+  const double cb = std::clamp((d * d + b * b - a * a) / (2 * d * b), -1.0, 1.0);
+  return {a * a * std::acos(ca) + b * b * std::acos(cb) - 0.5 * k, k / d};
+}
+
+// Gauss-Legendre nodes and weights on [0, 1], n points (Newton's method on P_n).
+template <int N>
+struct GaussLegendre {
+  std::array<double, N> x{}, w{};
+  GaussLegendre() {
+    for (int i = 0; i < N; ++i) {
+      double t = std::cos(M_PI * (i + 0.75) / (N + 0.5)), dp = 0;
+      for (int it = 0; it < 100; ++it) {
+        double p0 = 1, p1 = t;
+        for (int k = 2; k <= N; ++k) {
+          const double p2 = ((2 * k - 1) * t * p1 - (k - 1) * p0) / k;
+          p0 = p1, p1 = p2;
+        }
+        dp = N * (t * p1 - p0) / (t * t - 1);
+        const double step = p1 / dp;
+        t -= step;
+        if (std::abs(step) < 1e-16) break;
+      }
+      x[static_cast<std::size_t>(i)] = 0.5 * (1 - t);
+      w[static_cast<std::size_t>(i)] = 1 / ((1 - t * t) * dp * dp);  // 2/((1-t^2) P'^2), halved for [0, 1]
+    }
+  }
+};
+
+}  // namespace
+
+VolumeSlope cylinder_cut_volume(double R, double cylinder_radius, double dist, bool inside) {
+  if (dist >= R) return {};
+  if (dist <= -R) return {ball_volume(R), 0};
+  const double rho = inside ? cylinder_radius - dist : cylinder_radius + dist;  // the centre from the axis
+  // A slice at height z across the axis is a disk of radius a = sqrt(R^2 - z^2) centred rho
+  // from the axis; it crosses the surface where a > |dist|, i.e. |z| < z*. Behind the surface
+  // it has (inside) its area less the lens with the cylinder's circle, or (outside) the lens.
+  // The lens's derivative with respect to rho is minus the chord; rho moves as -dist
+  // (inside) or +dist (outside), so the volume's derivative is minus the chords' integral
+  // both ways (and zero at |z| = z*, where the slice touches the circle).
+  const double z_star = std::sqrt(std::max(R * R - dist * dist, 0.0));
+  static const GaussLegendre<24> rule;
+  double volume = 0, slope = 0;
+  // Over t in [from, to] (z = z* sin t, dz = z* cos t dt); t = from + (to - from) u^2 where
+  // the chords rise from zero as a square root at `from` (smooth in u).
+  auto add = [&](double from, double to, bool root_at_from) {
+    for (std::size_t k = 0; k < rule.x.size(); ++k) {
+      const double u = rule.x[k];
+      const double t = from + (to - from) * (root_at_from ? u * u : u);
+      const double dt = (to - from) * (root_at_from ? 2 * u : 1.0) * rule.w[k];
+      const double z = z_star * std::sin(t), dz = z_star * std::cos(t) * dt;
+      const double a = std::sqrt(std::max(R * R - z * z, 0.0));
+      const LensArea lens = circle_lens(a, cylinder_radius, rho);
+      volume += (inside ? M_PI * a * a - lens.area : lens.area) * dz;
+      slope -= lens.chord * dz;
+    }
+  };
+  // Slices wider than rho + Rc hold the cylinder's whole circle (a ball wider than a narrow
+  // pipe): a kink of the integrand, where the quadrature is split.
+  const double holds = rho + cylinder_radius;
+  if (holds < R && holds > std::abs(dist)) {
+    const double split = std::asin(std::min(1.0, std::sqrt(R * R - holds * holds) / z_star));
+    add(0, split, false);  // slices holding the circle: their chords are zero
+    add(split, 0.5 * M_PI, true);
+  } else {
+    add(0, 0.5 * M_PI, false);
+  }
+  // A centre behind the surface (dist < 0; no run gets there, its overlap stops it first):
+  // the slices |z| > z* lie behind whole. Their volume's derivative cancels the one of the
+  // integral's moving ends, where the slice is behind whole too.
+  const double whole = dist < 0 ? 2 * M_PI * (R * R * (R - z_star) - (R * R * R - z_star * z_star * z_star) / 3) : 0.0;
+  return {2 * volume + whole, 2 * slope};  // both halves, z < 0 and z > 0
 }
 
 SuspensionFraction suspension_fraction(double solid, double solid_rate, double room, double room_rate, double own) {

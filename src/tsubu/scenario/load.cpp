@@ -295,11 +295,11 @@ void read_surface_motion(Section& s, Wall& w, const Vec3& about, const std::stri
   w.axis_offset = s.vec3("center", w.point) - w.point;
 }
 
-// A wall that is not a whole plane (`what`, named by `key`), whose contact normal turns under
-// a grain: no hindered settling (the room it leaves a grain is measured for whole planes).
+// A wall that is neither a whole plane nor a cylinder (`what`, named by `key`): no hindered
+// settling (the room it leaves a grain is measured for whole planes and cylinders).
 void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, const std::string& what) {
   if (sc.fluid.hindered)
-    s.fail(key, "hindered settling measures the room a whole plane leaves a grain; " + what +
+    s.fail(key, "hindered settling measures the room a whole plane or a cylinder leaves a grain; " + what +
                     " is not available with fluid.hindered_settling = true yet");
 }
 
@@ -307,7 +307,7 @@ void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, c
 // surface may turn about the axis. It does not move otherwise, and only the fixed steps take it.
 void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string& shape) {
   w.shape = shape == "cone" ? WallShape::cone : WallShape::cylinder;
-  refuse_with_curved_walls(s, sc, "shape", "a " + shape);
+  if (w.shape == WallShape::cone) refuse_with_curved_walls(s, sc, "shape", "a cone");
   const std::string keys = w.shape == WallShape::cone ? "point (the centre of its first rim), axis, length, radius, end_radius"
                                                       : "point (on its axis), axis, radius";
   for (const char* key : {"normal", "motion", "surface_velocity", "center"})
