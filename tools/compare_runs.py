@@ -49,8 +49,10 @@ CASES = [
     ("search_multilevel", "tests/scenarios/poly_search.toml", []),
     ("search_cell", "tests/scenarios/poly_search.toml", ['search.method="cell"']),
     ("mesh_walls", "tests/scenarios/mesh_mixer.toml", ["simulation.duration=0.05", "search.sort_every=50"]),
-    ("open_faces", "tests/scenarios/chute_open.toml", ["simulation.duration=0.12", "search.sort_every=50"]),
-    ("insertion", "tests/scenarios/insertion_bin.toml", []),
+    ("open_faces", "tests/scenarios/chute_open.toml",  # grains leave from the first steps on
+     ["simulation.duration=0.05", "search.sort_every=50", "particles.0.lower=[0.02, 0, 0]",
+      "particles.0.upper=[0.04, 0.008, 0.03]"]),
+    ("insertion", "tests/scenarios/insertion_bin.toml", ["simulation.duration=0.15"]),
 ]
 # The cases a run split among processes supports (no block steps).
 SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "inflow", "hindered_settling", "moving_walls",

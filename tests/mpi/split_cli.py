@@ -178,7 +178,8 @@ def main():
         # on three processes, their newest checkpoint lost, resumed on two.
         for name, scenario, sets, what in [
             ("inflow", INFLOW, ["simulation.duration=0.15", "output.checkpoint_every_steps=2000"], "an inflow"),
-            ("chute", CHUTE, ["simulation.duration=0.12", "output.checkpoint_every_steps=4000"], "a discharge"),
+            ("chute", CHUTE, ["simulation.duration=0.05", "output.checkpoint_every_steps=1500",
+                              "particles.0.lower=[0.02, 0, 0]", "particles.0.upper=[0.04, 0.008, 0.03]"], "a discharge"),
         ]:
             for processes in (1, 3):
                 code, err = run(tsubu, launcher, processes, ["run", scenario, "--out", str(tmp / f"{name}{processes}")] +
@@ -193,7 +194,7 @@ def main():
         # Insertion into a bin: every process places the same grains.
         for processes in (1, 2):
             code, err = run(tsubu, launcher, processes, ["run", BIN, "--out", str(tmp / f"bin{processes}")] +
-                            with_sets(["simulation.duration=0.15"]))
+                            with_sets(["simulation.duration=0.12"]))
             assert code == 0, err
         same_files(tmp / "bin1", tmp / "bin2", "insertion into a bin on 2 processes")
 

@@ -70,8 +70,11 @@ void Simulation::remove_departed_at_block_end() {
 void Simulation::remove_departed_among_processes(Neighbourhood& split) {
   static_assert(std::is_trivially_copyable_v<Departure>);
   const std::vector<Departure> mine = Outflow::departures(world_, world_.owned());
+  std::string mine_bytes;
+  if (!mine.empty()) mine_bytes.assign(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(Departure));
   std::vector<Departure> gone;
-  for (const std::string& bytes : split.gather_all(std::string(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(Departure)))) {
+  for (const std::string& bytes : split.gather_all(mine_bytes)) {
+    if (bytes.empty()) continue;
     const std::size_t first = gone.size();
     gone.resize(first + bytes.size() / sizeof(Departure));
     std::memcpy(gone.data() + first, bytes.data(), bytes.size());
