@@ -2,8 +2,11 @@
 // time derivatives of every force and torque against central finite differences.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 
 #include "tsubu/fluid/fluid.hpp"
 
@@ -85,6 +88,53 @@ TEST(FluidForces, BuoyancyDragTorqueAndAddedMass) {
   off.enabled = false;
   EXPECT_EQ(off.added_mass_of(d), 0.0);
   EXPECT_EQ(fluid_load(off, d, g, u, w).force, Vec3{});
+}
+
+// The fixed-step evaluation takes the loads of a batch of grains at once (fluid_loads): the
+// same bits as one grain's fluid_load, for every switch of the fluid, at rest (the Stokes
+// limit), at speeds whose square underflows, above the drag's cap, hindered and not.
+TEST(FluidForces, ABatchIsEachGrainsLoadToTheBit) {
+  std::vector<Fluid> fluids;
+  for (int bits = 0; bits < 16; ++bits) {
+    Fluid f = only(bits & 1, bits & 2, bits & 4);
+    f.drag_cap = bits & 8;
+    fluids.push_back(f);
+    f.hindered = true;
+    fluids.push_back(f);
+  }
+  fluids.push_back(only(true, true, true, SpinModel::loth));
+  Fluid off = water();
+  off.enabled = false;
+  fluids.push_back(off);
+  const std::size_t n = 150;  // more than one batch
+  std::vector<double> d(n);
+  std::vector<Vec3> u(n), w(n);
+  std::vector<Crowding> crowd(n);
+  std::uint64_t state = 12345;
+  const auto uniform = [&] {  // in [-1, 1)
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    d[k] = 1e-3 * (5.5 + 4.5 * uniform());
+    const double speed = k % 10 == 0 ? 0.0 : k % 10 == 1 ? 1e-170 : k % 10 == 2 ? 2.0 : 0.3;
+    u[k] = speed * Vec3{uniform(), uniform(), uniform()};
+    w[k] = k % 7 == 0 ? Vec3{} : 300 * Vec3{uniform(), uniform(), uniform()};
+    if (k % 3 != 0) crowd[k] = {0.3 * (1 + uniform()), uniform(), 4.65};
+  }
+  const Vec3 g{0, 0, -9.81};
+  std::vector<FluidLoad> batch(n);
+  for (const Fluid& f : fluids) {
+    fluid_loads(f, g, n, d.data(), u.data(), w.data(), crowd.data(), batch.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      const FluidLoad one = fluid_load(f, d[k], g, u[k], w[k], crowd[k]);
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(batch[k].force[c]), std::bit_cast<std::uint64_t>(one.force[c]))
+            << "grain " << k << ", axis " << c << ", drag " << f.drag << ", hindered " << f.hindered;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(batch[k].torque[c]), std::bit_cast<std::uint64_t>(one.torque[c]));
+      }
+    }
+  }
 }
 
 TEST(FluidForces, LiftAlongOmegaCrossU) {

@@ -70,6 +70,13 @@ struct FluidLoad {
 FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u, const Vec3& omega,
                      const Crowding& crowd = {});
 
+// fluid_load of n grains at once, the same bits: out[k] = fluid_load(fluid, d[k], g, u[k],
+// omega[k], crowd[k]). Without lift the grains go through each expression together (no call
+// per grain, the drag's power laws back to back): half the cost of one grain at a time
+// (docs/performance.md). The fixed-step evaluation calls it for every grain at every step.
+void fluid_loads(const Fluid& fluid, const Vec3& g, std::size_t n, const double* d, const Vec3* u, const Vec3* omega,
+                 const Crowding* crowd, FluidLoad* out);
+
 // d/dt of fluid_load along a trajectory with du/dt = a and domega/dt = alpha (the jerk of
 // the fluid force and the rate of its torque). Exact derivatives of the same expressions
 // (forward-mode differentiation), so force and rate never disagree. At u = 0 the drag rate

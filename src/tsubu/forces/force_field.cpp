@@ -54,12 +54,41 @@ void ForceField::admit_new_particles(Particles& p) {
 }
 
 void ForceField::welcome(Particles& p, std::size_t first) const {
+  for (std::size_t i = first; i < p.size(); ++i) p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
+  std::vector<BodyLoad> bodies(p.size() - first);
+  body_loads(p, first, p.size(), 0, true, bodies.data());
   for (std::size_t i = first; i < p.size(); ++i) {
-    p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
-    const BodyLoad body = body_load(p, i, 0, kLone);
-    p.force[i] = body.force;
-    p.torque[i] = body.torque;
+    p.force[i] = bodies[i - first].force;
+    p.torque[i] = bodies[i - first].torque;
     p.contact_count[i] = 0;
+  }
+}
+
+void ForceField::body_loads(const Particles& p, std::size_t first, std::size_t last, double fluid_lead, bool lone,
+                            BodyLoad* out) const {
+  for (std::size_t i = first; i < last; ++i) out[i - first] = {p.mass[i] * model_->gravity, {}};
+  if (!model_->fluid.enabled) return;
+  constexpr std::size_t batch = 64;
+  double d[batch];
+  Vec3 u[batch], w[batch];
+  Crowding crowd[batch];
+  FluidLoad fluid[batch];
+  for (std::size_t begin = first; begin < last; begin += batch) {
+    const std::size_t n = std::min(batch, last - begin);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = begin + k;
+      d[k] = 2 * p.radius[i];
+      u[k] = p.velocity[i], w[k] = p.omega[i];
+      if (fluid_lead != 0)
+        u[k] += (fluid_lead / p.translational_mass[i]) * p.force[i], w[k] += (fluid_lead / p.inertia[i]) * p.torque[i];
+      crowd[k] = lone ? kLone : crowding(i);
+    }
+    fluid_loads(model_->fluid, model_->gravity, n, d, u, w, crowd, fluid);
+    for (std::size_t k = 0; k < n; ++k) {
+      BodyLoad& body = out[begin + k - first];
+      body.force += fluid[k].force;
+      body.torque = fluid[k].torque;
+    }
   }
 }
 
@@ -348,10 +377,13 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     const auto [begin, end] = static_range(owned, t, threads);
     double local_worst = 0;
     std::uint64_t local_touching = 0;
+    constexpr std::size_t batch = 64;
+    BodyLoad bodies[batch];
     for (std::size_t i = begin; i < end; ++i) {
       // Gravity and the still fluid, the fluid at the velocity and spin of the step's end (see
-      // compute()).
-      const BodyLoad body = body_load(p, i, fluid_lead);
+      // compute()), for a batch of particles at a time.
+      if ((i - begin) % batch == 0) body_loads(p, i, std::min(end, i + batch), fluid_lead, false, bodies);
+      const BodyLoad& body = bodies[(i - begin) % batch];
       Gathered<false> g;
       g.force = body.force;
       g.torque += body.torque;

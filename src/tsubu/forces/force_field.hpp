@@ -68,7 +68,7 @@ struct EvaluationRates {
   }
 };
 
-// The body forces on a particle: gravity and the still fluid's (ForceField::body_load).
+// The body forces on a particle: gravity and the still fluid's (ForceField::body_loads).
 struct BodyLoad {
   Vec3 force, torque;
 };
@@ -165,27 +165,16 @@ class ForceField {
   // mass, and as their force and torque the body load of a lone grain (no contact yet;
   // fluid_lead 0), which the next kick reads; no contacts.
   void welcome(Particles& p, std::size_t first) const;
-  // The body forces on particle i of `p`: gravity m g and the still fluid's buoyancy, drag
-  // and lift with their torque (Model::fluid; none without a fluid), the drag hindered by
-  // the crowding the last evaluation found (a grain that joined since: lone). The fluid's
-  // are taken at the velocity and spin v + fluid_lead F/m, w + fluid_lead T/I with the
-  // particle's force and torque now (see compute()). The one place they are added up, for
-  // the fixed-step evaluation and for grains that join a run (Simulation::particles_added,
-  // fluid_lead 0). Inlined: the fixed-step gather calls it for every particle at every step,
-  // and a dry bed reads nothing of the fluid's.
-  [[gnu::always_inline]] BodyLoad body_load(const Particles& p, std::size_t i, double fluid_lead) const {
-    return body_load(p, i, fluid_lead, crowding(i));
-  }
-  [[gnu::always_inline]] BodyLoad body_load(const Particles& p, std::size_t i, double fluid_lead, const Crowding& crowd) const {
-    BodyLoad body{p.mass[i] * model_->gravity, {}};
-    if (!model_->fluid.enabled) return body;
-    Vec3 u = p.velocity[i], w = p.omega[i];
-    if (fluid_lead != 0) u += (fluid_lead / p.translational_mass[i]) * p.force[i], w += (fluid_lead / p.inertia[i]) * p.torque[i];
-    const FluidLoad fl = fluid_load(model_->fluid, 2 * p.radius[i], model_->gravity, u, w, crowd);
-    body.force += fl.force;
-    body.torque = fl.torque;
-    return body;
-  }
+  // The body forces on particles first, ..., last - 1 of `p` (out[k] for particle first + k):
+  // gravity m g and the still fluid's buoyancy, drag and lift with their torque
+  // (Model::fluid; none without a fluid), the drag hindered by the crowding the last
+  // evaluation found (a grain that joined since, or all with `lone`: none). The fluid's are
+  // taken at the velocity and spin v + fluid_lead F/m, w + fluid_lead T/I with the particle's
+  // force and torque now (see compute()). The one place they are added up, for the fixed-step
+  // evaluation (a batch of grains at a time: fluid_loads) and for grains that join a run
+  // (welcome: fluid_lead 0, lone).
+  void body_loads(const Particles& p, std::size_t first, std::size_t last, double fluid_lead, bool lone,
+                  BodyLoad* out) const;
   // The world's particles were renumbered (sort_spatially) or some removed (Outflow): the
   // contact records follow their contacts; the lists are rebuilt at the next evaluation.
   void renumbered(const World& world);
