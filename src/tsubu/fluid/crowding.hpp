@@ -1,9 +1,10 @@
 // The solid fraction around each grain, for hindered settling (Fluid::hindered): from the
 // volume that the other grains fill in a ball of radius R_i = c r_i (c =
 // Fluid::hindered_ball_ratio) around grain i, less the part behind any wall (exact
-// sphere-sphere intersection volumes; a plane's cap; beyond a cylinder, by quadrature), corrected for the correlation hole around a grain
-// (docs/engine.md, "Hindered settling"). A lone grain sees 0. The rate follows from the
-// derivatives of the same volumes, so the hindered drag's jerk is exact.
+// sphere-sphere intersection volumes; a plane's cap; beyond a cylinder, by quadrature),
+// corrected for the correlation hole around a grain (docs/engine.md, "Hindered settling").
+// A lone grain sees 0. The rate follows from the derivatives of the same volumes, so the
+// hindered drag's jerk is exact.
 #pragma once
 #include <algorithm>
 #include <cmath>
