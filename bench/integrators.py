@@ -24,22 +24,30 @@ evaluation as a multiple of a velocity Verlet particle-step, and the accuracy me
 by side (kinetic energy and contacts at the end; for the sedimentation runs the deposit's
 porosity, coordination and segregation at rest).
 """
-import csv, json, os, statistics, subprocess, sys, time
+import argparse, csv, json, os, statistics, subprocess, time
 from concurrent.futures import ThreadPoolExecutor
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+WORKLOAD_NAMES = ("i", "ii", "poly", "rain")
 
 
-def option(name):
-    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else None
+def workload_list(text):
+    names = text.split(",")
+    unknown = [n for n in names if n not in WORKLOAD_NAMES]
+    if unknown:
+        raise argparse.ArgumentTypeError(f"unknown workload {', '.join(unknown)}; the workloads: {', '.join(WORKLOAD_NAMES)}")
+    return names
 
 
-values = {option("--only"), option("--until"), option("--pairs")}
-tsubu = next((a for a in sys.argv[1:] if not a.startswith("--") and a not in values), os.path.join(root, "build", "tsubu"))
-only = option("--only").split(",") if option("--only") else None
-until = float(option("--until")) if option("--until") else None
-pairs = int(option("--pairs") or 1)
-check_larger = "--check-larger-step" in sys.argv
+parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+parser.add_argument("tsubu", nargs="?", default=os.path.join(root, "build", "tsubu"), help="the executable (build/tsubu)")
+parser.add_argument("--only", type=workload_list, help="comma-separated workloads (default: all four)")
+parser.add_argument("--until", type=float, help="end every run at this time, s")
+parser.add_argument("--pairs", type=int, default=1, help="runs side by side of each workload (default 1)")
+parser.add_argument("--check-larger-step", action="store_true", help="velocity Verlet at twice its step after")
+arguments = parser.parse_args()
+tsubu, only, until, pairs, check_larger = (arguments.tsubu, arguments.only, arguments.until, arguments.pairs,
+                                          arguments.check_larger_step)
 out_root = os.path.join(root, "out", "bench-integrators")
 
 CLOUD = os.path.join(root, "bench", "hermite-cloud.toml")
