@@ -158,9 +158,10 @@ FluidLoad fluid_load(const Fluid& fluid, double d, const Vec3& g, const Vec3& u,
 namespace {
 
 // fluid_loads for at most kBatch grains: load<double>'s expressions in the same order (the
-// same bits), in three passes over the grains (the power law alone in the second). Drag on, no lift: the drag is -K u with K =
-// (1/2 rho_f S nu/d) (Re C_D)(s Re) s, s the hindrance (1 for a lone grain: the products with
-// it are exact); at u = 0 that is load()'s Stokes limit to the bit (Re = 0: Re C_D = 24).
+// same bits), in three passes over the grains (the power law alone in the second). Drag on,
+// no lift: the drag is -K u with K = (1/2 rho_f S nu/d) (Re C_D)(s Re) s, s the hindrance (1
+// for a lone grain: the products with it are exact); at u = 0 that is load()'s Stokes limit
+// to the bit (Re = 0: Re C_D = 24).
 constexpr std::size_t kBatch = 64;
 
 void drag_loads(const Fluid& f, const Vec3& g, std::size_t n, const double* d, const Vec3* u, const Vec3* omega,

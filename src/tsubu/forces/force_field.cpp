@@ -64,17 +64,23 @@ void ForceField::welcome(Particles& p, std::size_t first) const {
   }
 }
 
+namespace {
+
+// Particles per call of the gather to body_loads, whose fluid loads are taken together.
+constexpr std::size_t kBodyBatch = 64;
+
+}  // namespace
+
 void ForceField::body_loads(const Particles& p, std::size_t first, std::size_t last, double fluid_lead, bool lone,
                             BodyLoad* out) const {
   for (std::size_t i = first; i < last; ++i) out[i - first] = {p.mass[i] * model_->gravity, {}};
   if (!model_->fluid.enabled) return;
-  constexpr std::size_t batch = 64;
-  double d[batch];
-  Vec3 u[batch], w[batch];
-  Crowding crowd[batch];
-  FluidLoad fluid[batch];
-  for (std::size_t begin = first; begin < last; begin += batch) {
-    const std::size_t n = std::min(batch, last - begin);
+  double d[kBodyBatch];
+  Vec3 u[kBodyBatch], w[kBodyBatch];
+  Crowding crowd[kBodyBatch];
+  FluidLoad fluid[kBodyBatch];
+  for (std::size_t begin = first; begin < last; begin += kBodyBatch) {
+    const std::size_t n = std::min(kBodyBatch, last - begin);
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = begin + k;
       d[k] = 2 * p.radius[i];
@@ -377,13 +383,12 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     const auto [begin, end] = static_range(owned, t, threads);
     double local_worst = 0;
     std::uint64_t local_touching = 0;
-    constexpr std::size_t batch = 64;
-    BodyLoad bodies[batch];
+    BodyLoad bodies[kBodyBatch];
     for (std::size_t i = begin; i < end; ++i) {
       // Gravity and the still fluid, the fluid at the velocity and spin of the step's end (see
       // compute()), for a batch of particles at a time.
-      if ((i - begin) % batch == 0) body_loads(p, i, std::min(end, i + batch), fluid_lead, false, bodies);
-      const BodyLoad& body = bodies[(i - begin) % batch];
+      if ((i - begin) % kBodyBatch == 0) body_loads(p, i, std::min(end, i + kBodyBatch), fluid_lead, false, bodies);
+      const BodyLoad& body = bodies[(i - begin) % kBodyBatch];
       Gathered<false> g;
       g.force = body.force;
       g.torque += body.torque;
