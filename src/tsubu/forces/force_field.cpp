@@ -53,23 +53,23 @@ void ForceField::admit_new_particles(Particles& p) {
   admitted_ = p.size();
 }
 
-void ForceField::welcome(Particles& p, std::size_t first) const {
-  for (std::size_t i = first; i < p.size(); ++i) p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
-  std::vector<BodyLoad> bodies(p.size() - first);
-  body_loads(p, first, p.size(), 0, true, bodies.data());
-  for (std::size_t i = first; i < p.size(); ++i) {
-    p.force[i] = bodies[i - first].force;
-    p.torque[i] = bodies[i - first].torque;
-    p.contact_count[i] = 0;
-  }
-}
-
 namespace {
 
-// Particles per call of the gather to body_loads, whose fluid loads are taken together.
+// Particles per call to body_loads (the gather's, welcome's), whose fluid loads are taken together.
 constexpr std::size_t kBodyBatch = 64;
 
 }  // namespace
+
+void ForceField::welcome(Particles& p, std::size_t first) const {
+  for (std::size_t i = first; i < p.size(); ++i) p.translational_mass[i] = translational_mass_of(p, i, model_->fluid);
+  BodyLoad bodies[kBodyBatch];
+  for (std::size_t i = first; i < p.size(); ++i) {
+    if ((i - first) % kBodyBatch == 0) body_loads(p, i, std::min(p.size(), i + kBodyBatch), 0, true, bodies);
+    p.force[i] = bodies[(i - first) % kBodyBatch].force;
+    p.torque[i] = bodies[(i - first) % kBodyBatch].torque;
+    p.contact_count[i] = 0;
+  }
+}
 
 void ForceField::body_loads(const Particles& p, std::size_t first, std::size_t last, double fluid_lead, bool lone,
                             BodyLoad* out) const {
