@@ -16,7 +16,7 @@ the median and the spread. Velocity Verlet at twice its step runs after (it fail
 ii, which is why its step is what it is), with --check-larger-step.
 
   /usr/bin/python3 bench/integrators.py [build/tsubu] [--only i,poly,...] [--until T]
-      [--pairs N] [--check-larger-step]
+      [--pairs N] [--check-larger-step] [--block-set KEY=VALUE ...]
 
 Writes bench/results/integrators[-<only>][-to-<T>s].csv (one row per run) and prints, per
 workload, the ratios of evaluations and of wall time, the cost of a block-step particle force
@@ -45,9 +45,13 @@ parser.add_argument("--only", type=workload_list, help="comma-separated workload
 parser.add_argument("--until", type=float, help="end every run at this time, s")
 parser.add_argument("--pairs", type=int, default=1, help="runs side by side of each workload (default 1)")
 parser.add_argument("--check-larger-step", action="store_true", help="velocity Verlet at twice its step after")
+parser.add_argument("--block-set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a scenario value for the block-step runs only, as tsubu run --set (repeatable), e.g. "
+                         "simulation.block_steps.contact_levels='\"own\"'")
 arguments = parser.parse_args()
 tsubu, only, until, pairs, check_larger = (arguments.tsubu, arguments.only, arguments.until, arguments.pairs,
                                           arguments.check_larger_step)
+block_sets = [a for kv in arguments.block_set for a in ("--set", kv)]
 out_root = os.path.join(root, "out", "bench-integrators")
 
 CLOUD = os.path.join(root, "bench", "hermite-cloud.toml")
@@ -68,6 +72,8 @@ def run(workload, integrator, dt, pair):
             "--set", f"simulation.dt={dt}"]
     if until or duration:
         args += ["--set", f"simulation.duration={until or duration}"]
+    if integrator == "block_hermite":
+        args += block_sets
     start = time.monotonic()
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env={**os.environ, "OMP_NUM_THREADS": "1"})
     _, status, usage = os.wait4(proc.pid, 0)
@@ -119,7 +125,7 @@ for w, (_, _, block_dt, verlet_dt) in WORKLOADS.items():
     summary(w, runs)
     rows += runs
 os.makedirs(os.path.join(root, "bench", "results"), exist_ok=True)
-suffix = ("-" + "-".join(only) if only else "") + (f"-to-{until:g}s" if until else "")
+suffix = ("-" + "-".join(only) if only else "") + (f"-to-{until:g}s" if until else "") + ("-block-set" if block_sets else "")
 path = os.path.join(root, "bench", "results", f"integrators{suffix}.csv")
 with open(path, "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for r in rows for k in r)), restval="")

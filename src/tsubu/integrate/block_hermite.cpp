@@ -362,9 +362,14 @@ void BlockHermite::collect_active(std::int64_t t) {
 
 void BlockHermite::wake(const World& world, std::int64_t t) {
   // Two reasons to evaluate an inactive listed neighbour j of an active particle i at t,
-  // with every particle j touches (they share its time: a contact is never evaluated from
-  // one side only). Its step then ends at t, not at a power of two: the corrector takes any h.
-  // - j would touch i at t: its new contact woke it (is_active 2, see correct()).
+  // with shared levels with every particle j touches (they share its time: a contact is
+  // never evaluated from one side only). Its step then ends at t, not at a power of two: the
+  // corrector takes any h.
+  // - j would touch i at t and did not at the contact's last evaluation: its new contact
+  //   woke it (is_active 2, see correct()). With a level spread s > 0 a contact that
+  //   already touched wakes j only if j's level is more than s coarser than i's: else j,
+  //   on a longer step, takes the contact's force at its own step ends, the contact
+  //   evaluated at the ends of either grain's steps with the other predicted there.
   // - j's step is longer than i's and would end after their gap closes: j chose that step
   //   before i came near (i may have entered j's list since, or sped up), so its gap rule
   //   never saw i. Evaluated now, it picks a step from the gap; without this, the contact
@@ -378,8 +383,9 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
   for (std::size_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t i = active_[q];
     const Kinematics ki = kin.at(i);
-    contacts.for_each_pair_of(i, [&](std::uint32_t j, std::uint32_t) {
+    contacts.for_each_pair_of(i, [&](std::uint32_t j, std::uint32_t k) {
       if (is_active_[j]) return;
+      if (rules_.level_spread > 0 && contacts.pairs()[k].touching && state_.level[j] + rules_.level_spread >= state_.level[i]) return;
       const Kinematics kj = kin.at(j);
       const Vec3 d = world.domain.separation(ki.x, kj.x);
       const double reach = p.radius[i] + p.radius[j];
@@ -402,9 +408,10 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
         is_active_[w] = w == j ? why : 1;
         active_.push_back(w);
         ++stats_.wakes;
-        contacts.for_each_pair_of(w, [&](std::uint32_t y, std::uint32_t k) {
-          if (!is_active_[y] && contacts.pairs()[k].touching) stack.push_back(y);
-        });
+        if (rules_.level_spread == 0)  // else each woken grain's partners are checked in turn
+          contacts.for_each_pair_of(w, [&](std::uint32_t y, std::uint32_t k) {
+            if (!is_active_[y] && contacts.pairs()[k].touching) stack.push_back(y);
+          });
       }
     });
   }
@@ -597,12 +604,13 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     }
     wish[q] = level;
   });
-  // Particles in touch share the finest wish of their cluster.
+  // Particles in touch share the finest wish of their cluster (level_spread 0).
   std::vector<std::uint32_t> parent(active_.size());
   std::iota(parent.begin(), parent.end(), 0u);
   std::vector<std::uint32_t>& where = place_in_active_;  // UINT32_MAX outside the active set
   where.resize(p.size(), UINT32_MAX);
   for (std::uint32_t q = 0; q < active_.size(); ++q) where[active_[q]] = q;
+  if (rules_.level_spread > 0) return spread_levels(world, wish, reason);
   for (std::uint32_t q = 0; q < active_.size(); ++q)
     world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t k) {
       if (world.contacts.pairs()[k].touching && where[j] != UINT32_MAX) {
@@ -624,6 +632,33 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     if (wish[q] == cluster[r]) ++stats_.set_by_own[static_cast<std::size_t>(reason[q])];
     else ++stats_.set_by_cluster[static_cast<std::size_t>(reason[finest[r]])];
     set_level(active_[q], cluster[r]);
+  }
+  for (std::uint32_t i : active_) where[i] = UINT32_MAX;
+}
+
+void BlockHermite::spread_levels(const World& world, std::vector<int>& wish, const std::vector<StepRule>& reason) {
+  // Grains in touch within level_spread levels of each other: each active grain's level is
+  // the finest of its own wish and its active partners' levels less the spread, the least
+  // such levels (one fixed point whatever the order of the passes). An inactive partner is
+  // never finer than an active grain (its step would have ended first); one too coarse was
+  // woken (wake()). A grain whose level a partner set counts it under that partner's rule.
+  std::vector<std::uint32_t>& where = place_in_active_;
+  std::vector<std::uint32_t> set_by(active_.size());
+  std::iota(set_by.begin(), set_by.end(), 0u);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::uint32_t q = 0; q < active_.size(); ++q)
+      world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t k) {
+        const std::uint32_t r = where[j];
+        if (r == UINT32_MAX || !world.contacts.pairs()[k].touching) return;
+        for (auto [a, b] : {std::pair{q, r}, std::pair{r, q}})
+          if (wish[b] - rules_.level_spread > wish[a]) wish[a] = wish[b] - rules_.level_spread, set_by[a] = set_by[b], changed = true;
+      });
+  }
+  for (std::uint32_t q = 0; q < active_.size(); ++q) {
+    if (set_by[q] == q) ++stats_.set_by_own[static_cast<std::size_t>(reason[q])];
+    else ++stats_.set_by_cluster[static_cast<std::size_t>(reason[set_by[q]])];
+    set_level(active_[q], wish[q]);
   }
   for (std::uint32_t i : active_) where[i] = UINT32_MAX;
 }

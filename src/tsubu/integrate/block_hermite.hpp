@@ -27,6 +27,10 @@ struct BlockStepRules {
   double eta_s = 0.01;      // first step and after a contact begins or ends: eta_s |a|/|j|
   double u_floor = 1e-3;    // m/s, lowest impact speed in Eq. 20
   double list_horizon = 4;  // a moving grain's neighbour list reaches this many dt ahead
+  // Grains in touch step on levels at most this many apart: 0, every cluster of touching
+  // grains on the finest level any member needs; more, each grain on its own level within
+  // that many of its partners' (docs/integrators.md).
+  int level_spread = 0;
 };
 
 // The coarsest level k whose step dt/2^k is not above `bound` (0 for a bound of dt or more).
@@ -138,6 +142,8 @@ class BlockHermite {
   void correct_dashpots(World& world, const ForceField& forces);
   void choose_levels(const World& world, const ForceField& forces, std::int64_t t,
                      const std::vector<int>& contacts_before);
+  // choose_levels' end with a level spread: the wishes brought within it of touching partners.
+  void spread_levels(const World& world, std::vector<int>& wish, const std::vector<StepRule>& reason);
   void rebuild_lists(World& world, ForceField& forces, std::int64_t t);
   // The lists from list_positions_ and list_reach_, with the walls' places now as theirs.
   void build_lists(World& world, ForceField& forces);

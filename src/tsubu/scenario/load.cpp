@@ -137,6 +137,11 @@ void read_block_steps(Section& s, BlockStepRules& r) {
   r.eta_s = s.positive("eta_s", r.eta_s);
   r.u_floor = s.positive("u_floor", r.u_floor);
   r.list_horizon = s.positive("list_horizon", r.list_horizon);
+  const std::int64_t spread = s.integer("level_spread", r.level_spread);
+  if (spread < 0 || spread > levels)
+    s.fail("level_spread", "allowed 0 (grains in touch share a level) to block_steps.levels (" + std::to_string(levels) + ")" +
+                               got(static_cast<double>(spread)));
+  r.level_spread = static_cast<int>(spread);
   s.finish();
 }
 
