@@ -115,6 +115,16 @@ TEST(BlockHermiteRuns, HinderedSettlingOneAndTwoThreadsGiveIdenticalBits) {
   expect_same_run(one, two);
 }
 
+// With a level spread the levels are brought within it in passes over the active set in its
+// order, and a contact with an inactive partner is evaluated from the active side alone:
+// 1 and 2 threads give the same bits.
+TEST(BlockHermiteRuns, WithALevelSpreadOneAndTwoThreadsGiveIdenticalBits) {
+  const std::vector<std::string> sets = {"search.sort_every=10", "simulation.block_steps.level_spread=2"};
+  const World one = run_test_scenario("block_threads.toml", sets, 1);
+  const World two = run_test_scenario("block_threads.toml", sets, 2);
+  expect_same_run(one, two);
+}
+
 // The searches list the same pairs and the forces are summed in (i, j) order: the same bits
 // with either method.
 TEST(BlockHermiteRuns, CellAndMultilevelSearchGiveIdenticalBits) {

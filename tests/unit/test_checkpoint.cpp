@@ -613,6 +613,12 @@ TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_BlockHermite) {
   expect_inflow_resume_bit_identical({"simulation.integrator=\"block_hermite\""});
 }
 
+// Grains in touch on levels of their own within a spread (no state of its own: the levels are
+// the stepper's).
+TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_BlockHermiteLevelSpread) {
+  expect_inflow_resume_bit_identical({"simulation.integrator=\"block_hermite\"", "simulation.block_steps.level_spread=2"});
+}
+
 // Hindered settling: the crowding is rebuilt from the state, never stored.
 TEST(Resume, AfterSigkillDuringInflowTheRunEndsBitIdentical_HinderedVelocityVerlet) {
   expect_inflow_resume_bit_identical(
