@@ -30,6 +30,8 @@ BlockStepRules one_level(int level) {
   return r;
 }
 
+std::uint64_t sum(const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); }
+
 Simulation run(Bed b, const BlockStepRules& rules, std::int64_t steps) {
   Simulation sim(std::move(b.world), std::move(b.model), Integrator::block_hermite, rules);
   sim.start();
@@ -314,7 +316,6 @@ TEST(BlockHermite, EveryStepIsCountedByTheRuleThatSetIt) {
   ASSERT_EQ(sim.forces().totals(sim.world()).contacts, 2) << "the small grain has landed";
   const BlockStepStats& st = sim.block()->stats();
   ASSERT_EQ(st.set_by_own.size(), kStepRules);
-  const auto sum = [](const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); };
   EXPECT_EQ(sum(st.set_by_own) + sum(st.set_by_cluster), sim.particle_force_evaluations());
   const auto at = [](const std::vector<std::uint64_t>& v, StepRule r) { return v[static_cast<std::size_t>(r)]; };
   EXPECT_GT(at(st.set_by_own, StepRule::contact_or_gap) + at(st.set_by_own, StepRule::dashpot), 0u);
@@ -355,7 +356,6 @@ TEST(BlockHermite, WithALevelSpreadGrainsInTouchKeepTheirOwnSteps) {
   const HermiteState &s = spread.block()->state(), &t = shared.block()->state();
   EXPECT_EQ(t.level[1], t.level[2]);
   EXPECT_EQ(int(s.level[2]) - int(s.level[1]), 3) << "B steps 8 times longer than the small grain";
-  const auto sum = [](const std::vector<std::uint64_t>& v) { return std::accumulate(v.begin(), v.end(), std::uint64_t{0}); };
   EXPECT_EQ(sum(spread.block()->stats().set_by_own) + sum(spread.block()->stats().set_by_cluster), spread.particle_force_evaluations());
   EXPECT_LT(spread.particle_force_evaluations(), 0.8 * shared.particle_force_evaluations());  // 58 911 against 82 869
   for (std::size_t i : {0u, 1u, 2u})

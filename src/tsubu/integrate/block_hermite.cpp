@@ -604,13 +604,13 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     }
     wish[q] = level;
   });
-  // Particles in touch share the finest wish of their cluster (level_spread 0).
-  std::vector<std::uint32_t> parent(active_.size());
-  std::iota(parent.begin(), parent.end(), 0u);
   std::vector<std::uint32_t>& where = place_in_active_;  // UINT32_MAX outside the active set
   where.resize(p.size(), UINT32_MAX);
   for (std::uint32_t q = 0; q < active_.size(); ++q) where[active_[q]] = q;
   if (rules_.level_spread > 0) return spread_levels(world, wish, reason);
+  // Particles in touch share the finest wish of their cluster (level_spread 0).
+  std::vector<std::uint32_t> parent(active_.size());
+  std::iota(parent.begin(), parent.end(), 0u);
   for (std::uint32_t q = 0; q < active_.size(); ++q)
     world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t k) {
       if (world.contacts.pairs()[k].touching && where[j] != UINT32_MAX) {
@@ -650,9 +650,9 @@ void BlockHermite::spread_levels(const World& world, std::vector<int>& wish, con
     for (std::uint32_t q = 0; q < active_.size(); ++q)
       world.contacts.for_each_pair_of(active_[q], [&](std::uint32_t j, std::uint32_t k) {
         const std::uint32_t r = where[j];
-        if (r == UINT32_MAX || !world.contacts.pairs()[k].touching) return;
-        for (auto [a, b] : {std::pair{q, r}, std::pair{r, q}})
-          if (wish[b] - rules_.level_spread > wish[a]) wish[a] = wish[b] - rules_.level_spread, set_by[a] = set_by[b], changed = true;
+        // Each pair is met from both grains: q is raised from r here, r from q there.
+        if (r == UINT32_MAX || !world.contacts.pairs()[k].touching || wish[r] - rules_.level_spread <= wish[q]) return;
+        wish[q] = wish[r] - rules_.level_spread, set_by[q] = set_by[r], changed = true;
       });
   }
   for (std::uint32_t q = 0; q < active_.size(); ++q) {
