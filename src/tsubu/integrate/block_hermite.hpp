@@ -30,7 +30,7 @@ struct BlockStepRules {
   // Grains in touch step on levels at most this many apart: 0, every cluster of touching
   // grains on the finest level any member needs; more, each grain on its own level within
   // that many of its partners' (docs/integrators.md).
-  int level_spread = 0;
+  int level_spread = 2;
 };
 
 // The coarsest level k whose step dt/2^k is not above `bound` (0 for a bound of dt or more).
