@@ -304,7 +304,8 @@ TEST(BlockHermite, FreeGrainsTakeLongStepsAndContactsShort) {
 // 0.5 mm grain settles onto a 4 mm grain resting on the floor: the large grain's own
 // contact rules set its steps until the small one lands; at the touch the newcomer's event
 // rule sets its level, the large grain is raised to within the level spread of it, and its
-// step is counted as set by its partner's rule. A lone grain settling through the water never takes a contact's rule.
+// step is counted as set by its partner's rule. A lone grain settling through the water
+// never takes a contact's rule.
 TEST(BlockHermite, EveryStepIsCountedByTheRuleThatSetIt) {
   Bed b = make_world(kQuartz, spec_of("hertz_sediment", "mindlin", 0.5, 0.5), 1e-3, {0, 0, -9.81});
   auto& [w, model] = b;

@@ -591,8 +591,8 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     // rate is singular at the onset, as Tsuji's dashpot, needs short steps there) and after
     // its last contact ended (Aarseth's criterion restarts). Not when a grain already in
     // touch gains or loses one contact: model H's dashpot makes |j| ~ |a| eta/m there, and
-    // eta_s |a|/|j| ~ eta_s m/eta (35 ns for 0.5 mm grains) would hold every grain of a
-    // deposit, which share one level, on it while any of its contacts opens or closes.
+    // eta_s |a|/|j| ~ eta_s m/eta (35 ns for 0.5 mm grains) would hold the grain, and
+    // through the level spread its partners, on it while any of its contacts opens or closes.
     if (contacts_before[q] != p.contact_count[i] && (contacts_before[q] == 0 || p.contact_count[i] == 0))
       take(second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]), StepRule::event);
     int level = level_for(bound, world);

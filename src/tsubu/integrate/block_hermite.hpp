@@ -3,8 +3,10 @@
 // own time and its own step dt / 2^level. Time is an integer count of ticks dt / 2^L (L the
 // finest level), so block times are exact. At each block time the active particles (those
 // whose step ends there) are evaluated from the predicted state of everything they touch
-// and corrected; the others are only predicted. Particles in touch share a level, so each
-// contact's forces are equal and opposite and its history advances once per shared step.
+// and corrected; the others are only predicted. Particles in touch step on levels at most
+// `level_spread` apart; a contact is evaluated at either grain's step ends, the other
+// predicted there (with a spread of 0 they share a level, and each contact's forces are
+// equal and opposite over every shared step).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -54,9 +56,9 @@ struct BlockStepStats {
   std::uint64_t wakes = 0;                      // particles woken early by a new contact or a closing gap
   std::vector<std::uint64_t> evaluations;       // particle force evaluations per level
   // The steps chosen after an evaluation (every evaluation but an entering grain's first),
-  // by the rule that set their level: the particle's own (set_by_own), or a
-  // partner's in its cluster of grains in touch, which share the finest level any of them
-  // needs (set_by_cluster; by the rule that set that member's).
+  // by the rule that set their level: the particle's own (set_by_own), or a partner's in
+  // touch that raised it, within the level spread or to the cluster's finest level with a
+  // spread of 0 (set_by_cluster; by the rule that set that partner's).
   std::vector<std::uint64_t> set_by_own, set_by_cluster;  // kStepRules entries each
 };
 
