@@ -343,7 +343,7 @@ def test_a_tsubu_that_is_not_an_executable_is_refused(tmp_path):
 
 EXAMPLE_SWEEPS = {"ci": 4, "fig5-6": 24, "fig5-6-stop": 24, "vacuum": 18, "finite-size": 9, "fig5-6-hindered": 6,
                   "rcp-mono": 3, "fig7-rest": 288, "fig7-stop": 288, "box": 4, "fig8": 2, "rcp": 24, "fig7-hindered": 36,
-                  "readings": 12, "integrators": 60}
+                  "readings": 12, "integrators": 80}
 
 
 def test_every_example_sweep_is_checked():

@@ -185,6 +185,73 @@ TEST(BlockHermite, DashpotsAreCorrectedToTheCorrectedVelocities) {
   }
 }
 
+// Twenty-seven 0.5 mm grains in three loose layers of nine, in a periodic column 2 mm wide
+// in water, fall onto the floor (model H with alpha above its default of 0.2: the dashpots,
+// not the springs, set the steps of grains in touch).
+Bed settling_layers(double dt, double alpha) {
+  ContactSpec spec = spec_of("hertz_sediment", "mindlin", 0.5, 0.5);
+  spec.values.set("alpha", alpha);
+  Bed b = make_world(kQuartz, spec, dt, {0, 0, -9.81});
+  auto& [w, model] = b;
+  w.domain = {{0, 0, 0}, {2e-3, 2e-3, 5e-3}, {true, true, false}};
+  model.fluid.enabled = true, model.fluid.density = 1000, model.fluid.viscosity = 1e-6;
+  w.walls.push_back({{0, 0, 0}, {0, 0, 1}, 0, {}, {}});
+  const double r = 0.25e-3, spacing = 2e-3 / 3;
+  std::uint64_t id = 0;
+  for (int layer = 0; layer < 3; ++layer) {
+    const double shift = layer == 1 ? 0.5 * spacing : 0.1 * spacing * layer;
+    for (int ix = 0; ix < 3; ++ix)
+      for (int iy = 0; iy < 3; ++iy)
+        w.particles.add(id++, 0, r, 2650, {(ix + 0.3) * spacing + shift, (iy + 0.3) * spacing + shift, r + 0.02e-3 + 0.52e-3 * layer}, {});
+  }
+  return b;
+}
+
+double kinetic_energy(const Particles& p) {
+  double e = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * norm2(p.velocity[i]) + 0.5 * p.inertia[i] * norm2(p.omega[i]);
+  return e;
+}
+
+// The dashpots' rate measured along the run (damping_rate = "measured") against the block
+// Gershgorin bound, which takes every contact's fastest direction (sliding and rolling at
+// once, 7/2 eta_t) and adds up the contacts as if all acted on one mode: the grains in touch
+// take half as many steps, and the bed is where it is with the bound, to a small fraction of
+// its overlaps (about 1e-7 m here).
+TEST(BlockHermite, TheDashpotsRateMeasuredAlongTheRunLengthensTheStepsOfADeposit) {
+  BlockStepRules bound, measured;
+  measured.damping_rate = DampingRate::measured;
+  const Simulation a = run(settling_layers(1e-4, 0.6), bound, 300), b = run(settling_layers(1e-4, 0.6), measured, 300);
+  const auto dashpot_set = [](const Simulation& s) { return s.block()->stats().set_by_own[static_cast<std::size_t>(StepRule::dashpot)]; };
+  ASSERT_GT(dashpot_set(a), a.particle_force_evaluations() / 2) << "the bound sets most steps";
+  EXPECT_LT(dashpot_set(b), dashpot_set(a) / 10);
+  EXPECT_LT(b.particle_force_evaluations(), 0.6 * a.particle_force_evaluations());
+  const Particles &pa = a.world().particles, &pb = b.world().particles;
+  ASSERT_EQ(a.forces().totals(a.world()).contacts, b.forces().totals(b.world()).contacts);
+  ASSERT_GE(a.forces().totals(a.world()).contacts, 18);
+  for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_LT(norm(pa.position[i] - pb.position[i]), 1e-10) << "particle " << i;
+  EXPECT_NEAR(kinetic_energy(pb), kinetic_energy(pa), 0.01 * kinetic_energy(pa));
+}
+
+// Two 0.5 mm grains resting side by side on the floor in water, one sliding into the other
+// (model H with alpha = 2, ten times the default): the sliding grain's motion starts along
+// the floor, its partner's from rest, and their fastest dashpot modes are set off as they
+// press together. With the measured rate the steps follow them, and the motion dies out as
+// with the bound; without a dashpot rule the pair overlaps by 11 % within 8 ms.
+TEST(BlockHermite, WithTheMeasuredRateAnImpactOnTheFloorDiesOut) {
+  for (DampingRate rate : {DampingRate::bound, DampingRate::measured}) {
+    Bed b = settling_layers(1.6e-5, 2.0);
+    b.world.particles = Particles{};
+    b.world.particles.add(0, 0, 0.25e-3, 2650, {0.5e-3, 1e-3, 0.2499e-3}, {0.01, 0, 0});
+    b.world.particles.add(1, 0, 0.25e-3, 2650, {0.9999e-3, 1e-3, 0.2499e-3}, {});
+    const double energy0 = kinetic_energy(b.world.particles);
+    BlockStepRules rules;
+    rules.damping_rate = rate;
+    const Simulation sim = run(std::move(b), rules, 600);
+    EXPECT_LT(kinetic_energy(sim.world().particles), 0.1 * energy0) << (rate == DampingRate::bound ? "bound" : "measured");
+  }
+}
+
 TEST(BlockHermite, AContactBetweenGrainsInTouchDoesNotTakeTheEventStep) {
   // Two 0.5 mm grains resting on the floor in water, one sliding into the other: both touch
   // the floor before their own contact begins, so its onset is no first touch from free

@@ -44,7 +44,6 @@ struct ContactRecord {
 // than its contact step. The values (and their defaults) are BlockStepRules'.
 struct ContactStepRules {
   double kappa_c = 0;
-  double eta_damping = 0;  // a particle's step at most this over its dashpots' decay rate
   double eta_gap = 0;
   double u_floor = 0;  // m/s
 };
@@ -53,8 +52,10 @@ struct ContactStepRules {
 // active particles' entries are written).
 struct EvaluationRates {
   std::vector<Vec3> force, torque;  // dF/dt (N/s) and dT/dt (N m/s)
-  std::vector<double> step_bound;   // s, the contacts' limit on the next step
-  std::vector<char> dashpot_bound;  // the dashpots' rule, not a contact's or a gap's, set step_bound
+  std::vector<double> step_bound;   // s, the contacts' and gaps' limit on the next step
+  // 1/s: a bound on the fastest decay rate of the dashpots around the particle (the block
+  // Gershgorin sum of ForceField::compute_active), for the integrator's dashpot rule.
+  std::vector<double> damping_rate;
   // s: when exactly one contact of the particle began since its last evaluation (and none
   // ended), how long ago (its overlap over its rate of overlap); when exactly one ended (and
   // none began), how long ago (its gap over its rate of opening); 0 otherwise. The corrector
@@ -63,7 +64,7 @@ struct EvaluationRates {
   std::vector<double> touched_for, released_for;
 
   void resize(std::size_t n) {
-    force.resize(n), torque.resize(n), step_bound.resize(n), dashpot_bound.resize(n), touched_for.resize(n),
+    force.resize(n), torque.resize(n), step_bound.resize(n), damping_rate.resize(n), touched_for.resize(n),
         released_for.resize(n);
   }
 };

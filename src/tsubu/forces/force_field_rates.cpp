@@ -71,7 +71,6 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     // The fluid's forces depend on the velocity: the stepper adds them in its corrector,
     // where the corrected velocity is known (see BlockHermite::correct).
     gather<true>(world, i, g, &is_active);
-    double bound = g.bound;
     // The dashpots: the fastest decay rate of the dashpots around particle i is at most
     // sum_c max(eta_n, (7/2) eta_t) (1/m_i + 1/sqrt(m_i m_j)) (block Gershgorin on
     // M^-1/2 C M^-1/2: contact c's dashpot acts on the relative velocity of i and j at the
@@ -82,10 +81,8 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     // For an isolated pair of equal grains with eta_t = eta_n this is the exact rate
     // 7 eta/m of their relative sliding; with n contacts it grows n-fold. The Hermite
     // corrector is stable for a decay rate lambda while lambda h < 2.5 (amplification
-    // 1 + z + z^2/2 + z^3/6, z = -lambda h); the rule keeps lambda h <= eta_damping.
-    const double dashpots = g.damping_over_mass > 0 ? rules.eta_damping / g.damping_over_mass : INFINITY;
-    out.dashpot_bound[i] = dashpots < bound;
-    bound = std::min(bound, dashpots);
+    // 1 + z + z^2/2 + z^3/6, z = -lambda h): the integrator's dashpot rule.
+    out.damping_rate[i] = g.damping_over_mass;
     worst[q] = std::isfinite(g.force.x + g.force.y + g.force.z) ? g.deepest / (2.0 * r) : INFINITY;
     touching[q] = g.evaluated;
     p.force[i] = g.force;
@@ -93,7 +90,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     p.contact_count[i] = g.count + g.own;
     out.force[i] = g.force_rate;
     out.torque[i] = g.torque_rate;
-    out.step_bound[i] = bound;
+    out.step_bound[i] = g.bound;
     out.touched_for[i] = g.began == 1 && g.ended == 0 ? g.touched_for : 0.0;
     out.released_for[i] = g.ended == 1 && g.began == 0 ? g.released_for : 0.0;
   });

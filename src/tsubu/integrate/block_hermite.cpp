@@ -168,6 +168,7 @@ void BlockHermite::size_scratch(std::size_t n) {
   rates_.resize(n);
   for (auto* v : {&change_v_, &change_w_, &change_f_, &change_t_}) v->resize(n);
   aarseth_.resize(n, kNever);
+  measured_rate_.resize(n, kNever);
 }
 
 void BlockHermite::start(World& world, ForceField& forces) {
@@ -178,6 +179,7 @@ void BlockHermite::start(World& world, ForceField& forces) {
   std::fill(state_.time.begin(), state_.time.end(), now);
   index_levels();
   size_scratch(n);
+  measured_rate_.assign(n, kNever);  // no correction yet
   is_active_.assign(n, 1);
   active_.resize(n);
   std::iota(active_.begin(), active_.end(), 0u);
@@ -239,7 +241,7 @@ void BlockHermite::particles_added(World& world, ForceField& forces, std::size_t
                         contact_rules(), rates_);
   for (std::uint32_t i : fresh) {
     take_state(world, forces, i);
-    const double bound = std::min({rates_.step_bound[i], second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]),
+    const double bound = std::min({rates_.step_bound[i], dashpot_step(i, false), second_order(rules_.eta_s, norm(forces.model().gravity), state_.acc[i], state_.jerk[i]),
                                    rules_.eta_tau * drag_relaxation_time(forces.model().fluid, 2 * p.radius[i], p.translational_mass[i],
                                                                          norm(p.velocity[i]), forces.crowding(i)),
                                    until_wall_event(world, i, now)});
@@ -545,6 +547,16 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
   forces.dashpot_response(world, active_, change_v_, change_w_, change_f_, change_t_);
   for (std::size_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t i = active_[q];
+    // The dashpots' decay rate along this correction: the response to the change of velocity
+    // and spin over that change, |M^-1/2 dF| / |M^1/2 dv|, a Rayleigh quotient of the damping
+    // operator. It never exceeds the operator's largest rate, and once a mode the step
+    // leaves unstable grows, the change is that mode and the quotient its rate (stiffness
+    // detection along the solution, Shampine 1977). Unknown where nothing changed (a woken
+    // grain keeps its prediction).
+    const double m = p.translational_mass[i], inertia = p.inertia[i];
+    const double moved = m * norm2(change_v_[i]) + inertia * norm2(change_w_[i]);
+    const double pushed = norm2(change_f_[i]) / m + norm2(change_t_[i]) / inertia;
+    measured_rate_[i] = moved > 0 ? std::sqrt(pushed / moved) : kNever;
     p.force[i] += change_f_[i], p.torque[i] += change_t_[i];
     state_.acc[i] += change_f_[i] / p.translational_mass[i];
     state_.alpha[i] += change_t_[i] / p.inertia[i];
@@ -556,6 +568,11 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
     state_.alpha_dot[i] += change_t_[i] / p.inertia[i];
     change_v_[i] = {}, change_w_[i] = {};
   }
+}
+
+double BlockHermite::dashpot_step(std::uint32_t i, bool measured) const {
+  const double rate = measured ? std::min(rates_.damping_rate[i], measured_rate_[i]) : rates_.damping_rate[i];
+  return rate > 0 ? rules_.eta_damping / rate : kNever;
 }
 
 void BlockHermite::choose_levels(const World& world, const ForceField& forces, std::int64_t t,
@@ -570,10 +587,11 @@ void BlockHermite::choose_levels(const World& world, const ForceField& forces, s
     const std::uint32_t i = active_[q];
     double bound = rates_.step_bound[i];
     StepRule& why = reason[q];
-    why = rates_.dashpot_bound[i] ? StepRule::dashpot : StepRule::contact_or_gap;
+    why = StepRule::contact_or_gap;
     const auto take = [&](double b, StepRule rule) {
       if (b < bound) bound = b, why = rule;
     };
+    take(dashpot_step(i, rules_.damping_rate == DampingRate::measured), StepRule::dashpot);
     take(aarseth_[i], StepRule::aarseth);
     // The drag's relaxation time from the corrector's slope (the same law, without a pow).
     const FluidSlope& slope = fluid_slope_[q];

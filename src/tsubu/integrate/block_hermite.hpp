@@ -17,12 +17,18 @@
 
 namespace tsubu {
 
+// The decay rate of a particle's dashpots in their step rule: the block Gershgorin bound
+// alone, or the lower of it and the rate measured along the run at each correction
+// (docs/integrators.md, "The dashpots' rate measured along the run").
+enum class DampingRate : std::uint8_t { bound, measured };
+
 // [simulation.block_steps] of a scenario (docs/scenario.md).
 struct BlockStepRules {
   int levels = 20;          // L: steps dt, dt/2, ..., dt/2^L
   int force_level = -1;     // >= 0: every particle on this level (a shared-step Hermite run)
   double kappa_c = 0.04;    // contact step: kappa_c t_coll (Eq. 20) or kappa_c pi sqrt(m*/k)
   double eta_damping = 1.5; // dashpots: lambda h <= eta_damping (ForceField::compute_active)
+  DampingRate damping_rate = DampingRate::bound;  // lambda: the bound, or measured along the run
   double eta_gap = 0.5;     // free particles: share of the time to close a gap
   double eta_tau = 0.1;     // share of the fluid relaxation time
   double eta_a = 0.02;      // Aarseth criterion
@@ -114,6 +120,7 @@ class BlockHermite {
   std::vector<Vec3> predicted_acc_, predicted_alpha_, change_v_, change_w_, change_f_, change_t_;
   std::vector<FluidSlope> fluid_slope_;  // per active particle: the fluid load's slope from the corrector
   std::vector<double> aarseth_;  // per particle, Aarseth's bound from its last correction (infinite where it does not apply)
+  std::vector<double> measured_rate_;  // per particle, its dashpots' decay rate along its last correction, 1/s (infinite: unknown)
   std::vector<Kinematics> predicted_;        // predict_around's, per particle
   std::vector<std::int64_t> predicted_at_;   // the block time of each, -1 for none
   std::vector<std::uint32_t> to_predict_;    // predict_around's scratch
@@ -142,6 +149,9 @@ class BlockHermite {
   void evaluate(World& world, ForceField& forces, std::int64_t t);
   void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
   void correct_dashpots(World& world, const ForceField& forces);
+  // The dashpots' step bound of particle i: eta_damping over their decay rate (with
+  // `measured`, the lower of the bound and the rate measured at its last correction).
+  double dashpot_step(std::uint32_t i, bool measured) const;
   void choose_levels(const World& world, const ForceField& forces, std::int64_t t,
                      const std::vector<int>& contacts_before);
   // choose_levels' end with a level spread: the wishes brought within it of touching partners.
@@ -160,7 +170,7 @@ class BlockHermite {
   // neighbour, and how far it has moved when at x.
   double list_limit(std::uint32_t i) const;
   double moved_since_list(const World& world, std::uint32_t i, const Vec3& x) const;
-  ContactStepRules contact_rules() const { return {rules_.kappa_c, rules_.eta_damping, rules_.eta_gap, rules_.u_floor}; }
+  ContactStepRules contact_rules() const { return {rules_.kappa_c, rules_.eta_gap, rules_.u_floor}; }
   int level_for(double bound, const World& world) const;
 };
 
