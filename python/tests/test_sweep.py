@@ -75,6 +75,7 @@ def test_grid_runs_every_case(grid_run):
         assert row["status"] == summary["status"] == "ok" and row["stop_reason"] == "duration"
         assert int(row["steps"]) == summary["steps"] == 20000
         assert float(row["wall_time_s"]) == summary["wall_time_s"]
+        assert int(row["particle_force_evaluations"]) == summary["particle_force_evaluations"] > 0
         assert float(row["porosity"]) == summary["results"]["porosity"]
         seed, phi = int(row["simulation.seed"]), float(row["particles.0.solid_fraction"])
         assert name == f"solid_fraction={phi},seed={seed}" and summary["results"]["inflow_phi_0"] == phi

@@ -358,7 +358,7 @@ def write_results(sweep, path):
     """results.csv: one row per case, parameters, status, timing and run.json's results;
     written to a temporary file renamed over it (removed when the write fails)."""
     result_keys = sorted({k for c in sweep.cases if c.summary for k in c.summary.get("results", {})})
-    header = ["case", "status", "stop_reason", "wall_time_s", "steps", "particles",
+    header = ["case", "status", "stop_reason", "wall_time_s", "steps", "particles", "particle_force_evaluations",
               *sweep.parameters, *result_keys, "message"]
     tmp = path.with_suffix(".csv.tmp")
     with _writing(path, partial=tmp), open(tmp, "w", newline="") as f:
@@ -368,8 +368,8 @@ def write_results(sweep, path):
             s = c.summary or {}
             results = s.get("results", {})
             row = [c.name, c.status, s.get("stop_reason", ""), s.get("wall_time_s", ""), s.get("steps", ""),
-                   s.get("particles", ""), *(toml_value(c.params[k]).strip('"') if k in c.params else ""
-                                             for k in sweep.parameters),
+                   s.get("particles", ""), s.get("particle_force_evaluations", ""),
+                   *(toml_value(c.params[k]).strip('"') if k in c.params else "" for k in sweep.parameters),
                    *(results.get(k, "") for k in result_keys), c.message]
             out.writerow(row)
         f.flush()
