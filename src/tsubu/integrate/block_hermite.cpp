@@ -545,6 +545,7 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
   // lambda only while lambda h < 0.61; with it while lambda h < 2.5 (docs/integrators.md).
   Particles& p = world.particles;
   forces.dashpot_response(world, active_, change_v_, change_w_, change_f_, change_t_);
+  const bool measure = rules_.damping_rate == DampingRate::measured;
   for (std::size_t q = 0; q < active_.size(); ++q) {
     const std::uint32_t i = active_[q];
     // The dashpots' decay rate along this correction: the response to the change of velocity
@@ -554,12 +555,14 @@ void BlockHermite::correct_dashpots(World& world, const ForceField& forces) {
     // detection along the solution, Shampine 1977). Unknown where nothing changed (a woken
     // grain keeps its prediction).
     const double m = p.translational_mass[i], inertia = p.inertia[i];
-    const double moved = m * norm2(change_v_[i]) + inertia * norm2(change_w_[i]);
-    const double pushed = norm2(change_f_[i]) / m + norm2(change_t_[i]) / inertia;
-    measured_rate_[i] = moved > 0 ? std::sqrt(pushed / moved) : kNever;
+    if (measure) {
+      const double moved = m * norm2(change_v_[i]) + inertia * norm2(change_w_[i]);
+      const double pushed = norm2(change_f_[i]) / m + norm2(change_t_[i]) / inertia;
+      measured_rate_[i] = moved > 0 ? std::sqrt(pushed / moved) : kNever;
+    }
     p.force[i] += change_f_[i], p.torque[i] += change_t_[i];
-    state_.acc[i] += change_f_[i] / p.translational_mass[i];
-    state_.alpha[i] += change_t_[i] / p.inertia[i];
+    state_.acc[i] += change_f_[i] / m;
+    state_.alpha[i] += change_t_[i] / inertia;
     change_v_[i] = state_.acc[i] - predicted_acc_[q], change_w_[i] = state_.alpha[i] - predicted_alpha_[q];
   }
   forces.dashpot_response(world, active_, change_v_, change_w_, change_f_, change_t_);

@@ -19,7 +19,7 @@ namespace tsubu {
 
 // The decay rate of a particle's dashpots in their step rule: the block Gershgorin bound
 // alone, or the lower of it and the rate measured along the run at each correction
-// (docs/integrators.md, "The dashpots' rate measured along the run").
+// (docs/integrators.md, "The dashpot rule: a rate measured along the run").
 enum class DampingRate : std::uint8_t { bound, measured };
 
 // [simulation.block_steps] of a scenario (docs/scenario.md).
@@ -27,7 +27,7 @@ struct BlockStepRules {
   int levels = 20;          // L: steps dt, dt/2, ..., dt/2^L
   int force_level = -1;     // >= 0: every particle on this level (a shared-step Hermite run)
   double kappa_c = 0.04;    // contact step: kappa_c t_coll (Eq. 20) or kappa_c pi sqrt(m*/k)
-  double eta_damping = 1.5; // dashpots: lambda h <= eta_damping (ForceField::compute_active)
+  double eta_damping = 1.5; // dashpots: lambda h <= eta_damping (BlockHermite::dashpot_step)
   DampingRate damping_rate = DampingRate::bound;  // lambda: the bound, or measured along the run
   double eta_gap = 0.5;     // free particles: share of the time to close a gap
   double eta_tau = 0.1;     // share of the fluid relaxation time

@@ -131,8 +131,9 @@ void read_block_steps(Section& s, BlockStepRules& r) {
   r.force_level = static_cast<int>(force);
   r.kappa_c = s.positive("kappa_c", r.kappa_c);
   r.eta_damping = s.positive("eta_damping", r.eta_damping);
-  r.damping_rate = s.choice("damping_rate", {"bound", "measured"}, std::string("bound")) == "measured" ? DampingRate::measured
-                                                                                                    : DampingRate::bound;
+  const char* rate = r.damping_rate == DampingRate::measured ? "measured" : "bound";
+  r.damping_rate = s.choice("damping_rate", {"bound", "measured"}, std::string(rate)) == "measured" ? DampingRate::measured
+                                                                                                 : DampingRate::bound;
   r.eta_gap = s.positive("eta_gap", r.eta_gap);
   r.eta_tau = s.positive("eta_tau", r.eta_tau);
   r.eta_a = s.positive("eta_a", r.eta_a);
