@@ -49,11 +49,24 @@ std::unique_ptr<Simulation> ball(const Wall& wall, const ContactSpec& law, const
   return sim;
 }
 
+// v turned about (1, 2, 0.5) by `degrees` (Rodrigues' formula).
+Vec3 tilted(const Vec3& v, double degrees) {
+  const Vec3 k = Vec3{1, 2, 0.5} / norm(Vec3{1, 2, 0.5});
+  const double a = degrees * M_PI / 180;
+  return v * std::cos(a) + cross(k, v) * std::sin(a) + k * (dot(k, v) * (1 - std::cos(a)));
+}
+
 // Velocity Verlet at 1 us, block steps of 0.1 ms: the same path on the mesh as on the plane
-// (the same steps), to round-off, sampled every 0.5 ms over 3 ms.
-void rebounds_as_off_the_plane(Integrator integrator, double dt) {
+// (the same steps), to round-off, sampled every 0.5 ms over 3 ms; the plate in z = 0 or, with
+// everything else, turned by `tilt` degrees (its triangles' region tests then meet at the
+// vertices only to round-off).
+void rebounds_as_off_the_plane(Integrator integrator, double dt, double tilt = 0) {
   const double h = 0.002;  // triangles smaller than the ball: it touches several at once
-  const auto mesh = plate(20, h);
+  const double half = 10 * h;
+  const auto mesh = std::make_shared<const TriangleMesh>(
+      testing::plate(20, h, [&](const Vec3& a) { return tilted(a - Vec3{half, half, 0}, tilt); }));
+  Wall plane = floor_plane();
+  plane.normal = tilted(plane.normal, tilt);
   const ContactSpec law = testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5);
   int cases = 0;
   // Over a face, the middle of an edge, a diagonal and a vertex (of 4 and of 8 triangles).
@@ -64,21 +77,30 @@ void rebounds_as_off_the_plane(Integrator integrator, double dt) {
       // Placed so that it reaches the impact point at the first touch.
       const double fall = 1e-4;
       const Vec3 hit{a * h, b * h, kR};
-      const Vec3 x = hit - (fall / -v.z) * v;
-      const Vec3 spin{5, -3, 2};
-      auto on_mesh = ball(mesh_wall(mesh), law, x, v, spin, {}, integrator, dt);
-      auto on_plane = ball(floor_plane(), law, x, v, spin, {}, integrator, dt);
+      const Vec3 x = tilted(hit - (fall / -v.z) * v, tilt);
+      const Vec3 spin = tilted({5, -3, 2}, tilt);
+      auto on_mesh = ball(mesh_wall(mesh), law, x, tilted(v, tilt), spin, {}, integrator, dt);
+      auto on_plane = ball(plane, law, x, tilted(v, tilt), spin, {}, integrator, dt);
       for (int k = 1; k <= 6; ++k) {
         const std::int64_t step = std::llround(k * 5e-4 / dt);
         on_mesh->advance_to(step), on_plane->advance_to(step);
         const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
-        ASSERT_EQ(on_mesh->particle_force_evaluations(), on_plane->particle_force_evaluations());
-        ASSERT_LT(norm(p.position[0] - q.position[0]), 1e-15) << a << ", " << b << ", " << degrees << " degrees, step " << step;
-        ASSERT_LT(norm(p.velocity[0] - q.velocity[0]), 1e-12) << a << ", " << b << ", " << degrees << " degrees";
-        ASSERT_LT(norm(p.omega[0] - q.omega[0]), 1e-9) << a << ", " << b << ", " << degrees << " degrees";
+        // Tilted, a contact near a vertex may pass from triangle to triangle (a contact event
+        // for block steps' rules, which then take other steps); in z = 0 the steps are the plane's.
+        if (tilt == 0) ASSERT_EQ(on_mesh->particle_force_evaluations(), on_plane->particle_force_evaluations()) << a << ", " << b << ", " << degrees << " degrees";
+        // Tilted, block steps near a vertex may take other steps than on the plane (above):
+        // then within their own error of a rebound (against velocity Verlet 3e-3 of the speed
+        // and 5e-3 of the spin at 60 degrees), measured 4e-7 m, 6e-4 and 1.1e-3 at most.
+        const bool steps_differ = tilt != 0 && integrator == Integrator::block_hermite;
+        const double x_tol = steps_differ ? 2e-6 : 1e-15, v_tol = steps_differ ? 2e-3 * norm(q.velocity[0]) : 1e-12,
+                     w_tol = steps_differ ? 5e-3 * norm(q.omega[0]) : 1e-9;
+        ASSERT_LT(norm(p.position[0] - q.position[0]), x_tol) << a << ", " << b << ", " << degrees << " degrees, step " << step
+                                                              << ", tilted by " << tilt;
+        ASSERT_LT(norm(p.velocity[0] - q.velocity[0]), v_tol) << a << ", " << b << ", " << degrees << " degrees";
+        ASSERT_LT(norm(p.omega[0] - q.omega[0]), w_tol) << a << ", " << b << ", " << degrees << " degrees";
       }
       const Particles& q = on_plane->world().particles;
-      EXPECT_GT(q.velocity[0].z, 0) << "it rebounded";
+      EXPECT_GT(dot(q.velocity[0], plane.normal), 0) << "it rebounded";
       ++cases;
     }
   EXPECT_EQ(cases, 20);
@@ -89,6 +111,14 @@ TEST(MeshWall, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
 }
 TEST(MeshWallBlockSteps, ABallReboundsOffAFlatMeshAsOffThePlaneAtFacesEdgesAndVertices) {
   rebounds_as_off_the_plane(Integrator::block_hermite, 1e-4);
+}
+// Tilted, a ball falling straight onto a vertex of 8 triangles once found none of them owning
+// it (their region tests disagreeing to round-off): with block steps it was not seen until
+// 80 um deep, and the run failed on the energy's growth. A spare counts it now
+// (TriangleMesh::touch).
+TEST(MeshWall, ABallReboundsOffATiltedFlatMeshAsOffThePlane) { rebounds_as_off_the_plane(Integrator::velocity_verlet, 1e-6, 25); }
+TEST(MeshWallBlockSteps, ABallReboundsOffATiltedFlatMeshAsOffThePlane) {
+  rebounds_as_off_the_plane(Integrator::block_hermite, 1e-4, 25);
 }
 
 // A ball rolling under gravity across a mesh of small triangles crosses dozens of shared

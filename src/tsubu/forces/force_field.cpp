@@ -344,12 +344,21 @@ void ForceField::touch_wall(World& world, std::size_t i, std::uint32_t w, std::u
     // Surely out of reach, a triangle does not count (TriangleMesh::touch): its contact does not
     // touch whether it counts or not, nor does one at the same point after it (below).
     NearestFeature feature;
-    e.counts = touch_triangle(wall, contacts[k].j - first_element, x, reach, e.touch, &feature);
+    e.counts = touch_triangle(wall, contacts[k].j - first_element, x, reach, e.touch, &feature, &e.spare);
     e.kind = feature.kind, e.feature = feature.index;
     // The same point of the mesh as a contact before it (round-off at a flat mesh's vertex):
     // one contact, the first.
     for (std::uint32_t before = first; before < k && e.counts; ++before)
       e.counts = !(wall_touch_[before].counts && same_contact(wall_touch_[before].touch, e.touch));
+  }
+  // A flat vertex that none of its triangles counts (their tests disagree to round-off): the
+  // first spare counts the plane's touch there, where no contact of the mesh is at that point.
+  for (std::uint32_t k = first; k < last; ++k) {
+    ElementTouch& e = wall_touch_[k];
+    if (!e.spare) continue;
+    e.counts = true;
+    for (std::uint32_t other = first; other < last && e.counts; ++other)
+      e.counts = other == k || !(wall_touch_[other].counts && same_contact(wall_touch_[other].touch, e.touch));
   }
   // A contact that begins takes the history of one that ends on an adjacent triangle (a
   // grain rolling over an edge keeps its spring), which gives it up.

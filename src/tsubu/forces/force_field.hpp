@@ -290,6 +290,7 @@ class ForceField {
     WallTouch touch;
     std::uint32_t wall = 0;
     bool counts = false;
+    bool spare = false;  // on a mesh, a flat edge or vertex the triangle does not own (TriangleMesh::touch)
     NearestFeature::Kind kind = NearestFeature::face;  // on a mesh, the nearest feature (for the rates)
     std::uint32_t feature = 0;
   };

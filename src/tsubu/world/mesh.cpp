@@ -192,7 +192,9 @@ bool TriangleMesh::all_nearest(const std::vector<std::uint32_t>& start, const st
   return true;
 }
 
-bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature) const {
+bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature,
+                         bool* spare) const {
+  if (spare) *spare = false;
   if (!may_reach(t, x, r)) return false;
   const NearestFeature f = nearest(t, x);
   if (f.kind == NearestFeature::face) {  // its distance, the plane's, may_reach found within reach
@@ -207,15 +209,38 @@ bool TriangleMesh::touch(std::uint32_t t, const Vec3& x, double r, WallTouch& ou
   if (!(d > 0) || !(d <= r * (1 + kReachMargin))) return false;
   // An edge or vertex: counted by its owner where it is the surface's nearest point around
   // it; by each triangle where the surface is concave there (see the header).
-  if (f.kind == NearestFeature::edge && !concave_from(f.index, x) &&
-      (edge_triangles_[edge_start_[f.index]] != t || !all_nearest(edge_start_, edge_triangles_, f.index, f.kind, f.index, t, x)))
+  const bool owned =
+      f.kind == NearestFeature::edge
+          ? concave_from(f.index, x) || (edge_triangles_[edge_start_[f.index]] == t &&
+                                         all_nearest(edge_start_, edge_triangles_, f.index, f.kind, f.index, t, x))
+          : vertex_concave_from(f.index, x) || (vertex_triangles_[vertex_start_[f.index]] == t &&
+                                                all_nearest(vertex_start_, vertex_triangles_, f.index, f.kind, f.index, t, x));
+  // Where the surface is flat across the edge or around the vertex, the nearest point moves
+  // with the centre as on a face and the normal stands still: a face's rates
+  // (touch_triangle_with_rates). Not owned, such a feature over which the centre lies (its
+  // touch the plane's, same_contact) is a spare with the plane's touch: the triangles of a
+  // flat vertex may disagree on its region to round-off, so that none owns it.
+  const bool is_flat = flat(f);
+  if (!owned) {
+    if (!is_flat || !spare) return false;
+    const double h = dot(x - vertices_[triangles_[t][0]], normal_[t]);
+    const WallTouch plane{std::abs(h), h > 0 ? normal_[t] : -normal_[t]};
+    if (h == 0 || !same_contact(plane, {d, from / d})) return false;
+    out = plane;
+    if (feature) *feature = {NearestFeature::face, t, x - h * normal_[t]};
+    *spare = true;
     return false;
-  if (f.kind == NearestFeature::vertex && !vertex_concave_from(f.index, x) &&
-      (vertex_triangles_[vertex_start_[f.index]] != t ||
-       !all_nearest(vertex_start_, vertex_triangles_, f.index, f.kind, f.index, t, x)))
-    return false;
+  }
   out = {d, from / d};
-  if (feature) *feature = f;
+  if (feature) *feature = is_flat ? NearestFeature{NearestFeature::face, t, f.point} : f;
+  return true;
+}
+
+bool TriangleMesh::flat(const NearestFeature& f) const {
+  if (f.kind == NearestFeature::edge) return edge_flat_[f.index];
+  if (f.kind == NearestFeature::face) return true;
+  for (std::uint32_t s = vertex_edge_start_[f.index]; s < vertex_edge_start_[f.index + 1]; ++s)
+    if (!edge_flat_[vertex_edges_[s]]) return false;
   return true;
 }
 

@@ -25,8 +25,12 @@
 // it agree on whether a centre is beyond its end.
 //
 // Within round-off of a vertex of a flat mesh those tests, one per edge, need not meet in one
-// point, and a centre there can be inside two faces: two contacts of a ball with a mesh at
-// the same point (same_contact) are one, the later dropped.
+// point: a centre there can be inside two faces, and two contacts of a ball with a mesh at the
+// same point (same_contact) are one, the later dropped; or the vertex's triangles can disagree
+// on its region so that none counts it, and a triangle that finds the flat vertex or a flat
+// edge nearest is then a spare that counts the plane's touch (TriangleMesh::touch,
+// ForceField::touch_wall). Without it, a ball falling straight onto such a vertex of a tilted
+// mesh was not seen until it was 80 um deep (block steps: validation/mesh_walls.py).
 //
 // The triangles are two-sided: a ball may touch either face. A centre in the surface itself
 // has no normal and feels no contact.
@@ -86,8 +90,13 @@ class TriangleMesh {
   // if so where it touches: the distance of x from the nearest point and the unit normal from
   // there to x. False for a triangle surely out of the ball's reach (kReachMargin), which is
   // not asked about further (r = INFINITY: none is). `feature`, where given, gets the nearest
-  // feature of a contact that counts (for the touch's rates: touch_triangle_with_rates).
-  bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature = nullptr) const;
+  // feature of a contact that counts (for the touch's rates: touch_triangle_with_rates), a face
+  // where the surface is flat there (an edge between coplanar triangles, a vertex inside them),
+  // whose touch is then the plane's. `spare`, where given, is set for a flat edge or vertex
+  // that t has and does not own: its touch (the plane's) and feature are given, and it counts
+  // where no contact of the mesh at the same point does (ForceField::touch_wall).
+  bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature = nullptr,
+             bool* spare = nullptr) const;
   // Edge e's unit direction, from its lower vertex index to its higher.
   Vec3 edge_direction(std::uint32_t e) const {
     const Vec3 d = vertices_[edge_vertices_[e][1]] - vertices_[edge_vertices_[e][0]];
@@ -105,6 +114,9 @@ class TriangleMesh {
   const std::array<Vec3, 2>& box(std::size_t t) const { return box_[t]; }
 
  private:
+  // Whether the surface is flat at the feature: a face; an edge between two coplanar
+  // triangles; a vertex all of whose edges are such (not on the mesh's rim).
+  bool flat(const NearestFeature& f) const;
   // Per edge (its vertices p < q): the triangles that share it, the coplanar flag, and the
   // bend of its second triangle out of its owner's plane (for concavity).
   bool concave_from(std::uint32_t e, const Vec3& x) const;

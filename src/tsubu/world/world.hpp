@@ -18,12 +18,12 @@ namespace tsubu {
 // Where a particle of radius r centred at x, given in the mesh's frame (Wall::to_mesh),
 // touches triangle t of the mesh wall `wall`, its normal in the box's frame; false when the
 // triangle does not count the contact or is surely out of reach (TriangleMesh::touch).
-// `feature`, where given, gets the nearest feature (TriangleMesh::touch).
+// `feature` and `spare`, where given, as TriangleMesh::touch sets them (a spare's touch given too).
 inline bool touch_triangle(const Wall& wall, std::uint32_t t, const Vec3& x, double r, WallTouch& out,
-                           NearestFeature* feature = nullptr) {
-  if (!wall.mesh->touch(t, x, r, out, feature)) return false;
-  out.normal = wall.from_mesh(out.normal);
-  return true;
+                           NearestFeature* feature = nullptr, bool* spare = nullptr) {
+  const bool counts = wall.mesh->touch(t, x, r, out, feature, spare);
+  if (counts || (spare && *spare)) out.normal = wall.from_mesh(out.normal);
+  return counts;
 }
 
 // The same touch t of a particle centred at x moving at v (the box's frame) with its rates,
@@ -96,7 +96,8 @@ struct World {
     return static_cast<std::uint32_t>(std::upper_bound(wall_elements.begin(), wall_elements.end(), j) - wall_elements.begin() - 1);
   }
   // Where a particle centred at x touches wall element j, at any distance: the wall's touch,
-  // or the mesh triangle's; false when the triangle does not count the contact (world/mesh.hpp).
+  // or the mesh triangle's; false when the triangle does not count the contact and is no
+  // spare for it (world/mesh.hpp).
   bool touch_element(std::uint32_t j, const Vec3& x, WallTouch& out) const {
     const std::uint32_t w = wall_of(j);
     const Wall& wall = walls[w];
@@ -104,7 +105,8 @@ struct World {
       out = wall.touch(x);
       return true;
     }
-    return touch_triangle(wall, j - wall_elements[w], wall.to_mesh(x), INFINITY, out);
+    bool spare = false;  // a contact may be a spare's (ForceField::touch_wall)
+    return touch_triangle(wall, j - wall_elements[w], wall.to_mesh(x), INFINITY, out, nullptr, &spare) || spare;
   }
 };
 
