@@ -85,10 +85,11 @@ void rebounds_as_off_the_plane(Integrator integrator, double dt, double tilt = 0
         const std::int64_t step = std::llround(k * 5e-4 / dt);
         on_mesh->advance_to(step), on_plane->advance_to(step);
         const Particles &p = on_mesh->world().particles, &q = on_plane->world().particles;
-        // Tilted, a contact near a vertex may pass from triangle to triangle (a contact event
-        // for block steps' rules, which then take other steps); in z = 0 the steps are the plane's.
+        // Tilted, the ball touches at a block time within round-off of r: the mesh may find the
+        // contact there and the plane a step later (then other steps, by the rule after a
+        // contact begins); in z = 0 the steps are the plane's.
         if (tilt == 0) ASSERT_EQ(on_mesh->particle_force_evaluations(), on_plane->particle_force_evaluations()) << a << ", " << b << ", " << degrees << " degrees";
-        // Tilted, block steps near a vertex may take other steps than on the plane (above):
+        // Tilted, block steps may take other steps than on the plane (above):
         // then within their own error of a rebound (against velocity Verlet 3e-3 of the speed
         // and 5e-3 of the spin at 60 degrees), measured 4e-7 m, 6e-4 and 1.1e-3 at most.
         const bool steps_differ = tilt != 0 && integrator == Integrator::block_hermite;
