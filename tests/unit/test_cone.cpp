@@ -129,5 +129,21 @@ TEST(ConeWall, TheHopperGivesTheSameBitsForOneAndTwoThreads) {
   EXPECT_TRUE(testing::same_particle_bits(testing::run_scenario(sc, 1), testing::run_scenario(sc, 2)));
 }
 
+// The same hopper filling in still water with hindered settling (the room the cone leaves
+// each grain's ball: fluid/crowding.hpp, cone_cut_volume, its rate for block steps), with
+// velocity Verlet and with block steps: 1 and 2 threads, the same bits.
+TEST(ConeWall, TheHopperInWaterWithHinderedSettlingGivesTheSameBitsForOneAndTwoThreads) {
+  for (const std::string integrator : {"velocity_verlet", "block_hermite"}) {
+    std::vector<std::string> sets = {"simulation.duration=0.03", "search.sort_every=100", "fluid.density=1000",
+                                     "fluid.kinematic_viscosity=1e-6", "fluid.drag=true", "fluid.hindered_settling=true",
+                                     "simulation.integrator=\"" + integrator + "\""};
+    if (integrator == "block_hermite") sets.push_back("simulation.dt=1e-3");
+    const Scenario sc = testing::example_scenario("hopper/hopper.toml", sets);
+    const World one = testing::run_scenario(sc, 1);
+    EXPECT_GT(one.particles.size(), 50u) << integrator;
+    EXPECT_TRUE(testing::same_particle_bits(one, testing::run_scenario(sc, 2))) << integrator;
+  }
+}
+
 }  // namespace
 }  // namespace tsubu

@@ -281,21 +281,108 @@ TEST(HinderedSettling, TheLocalSolidFractionAgainstMonteCarlo) {
 // Grains in a vertical pipe (a cylinder wall, the grains inside): the solid fraction of the
 // force field around grains near the pipe's wall against Monte Carlo, the room being the ball
 // less what lies beyond the wall.
-TEST(HinderedSettling, TheLocalSolidFractionInAPipeAgainstMonteCarlo) {
+// A cone about the z axis through the origin, from radius r0 at z = 0 to r1 at z = length.
+Wall cone_wall(double r0, double r1, double length, bool inside) {
+  Wall w;
+  w.shape = WallShape::cone;
+  w.axis = {0, 0, 1};
+  w.radius = r0, w.end_radius = r1, w.length = length;
+  w.inside = inside;
+  return w;
+}
+
+// Whether the point y lies behind the cone (between its ends, beyond its surface from the
+// particles' side).
+bool behind_cone(const Wall& w, const Vec3& y) {
+  const double s = y.z, c = w.radius + (w.end_radius - w.radius) * s / w.length, rho = std::hypot(y.x, y.y);
+  return s >= 0 && s <= w.length && (w.inside ? rho > c : rho < c);
+}
+
+// The part of a ball (radius R, centre x) behind a cone, independently: slices across the
+// axis (Simpson in z), each slice's part behind by rings about the axis (r, theta), as in
+// cylinder_cut_by_integral. Its own accuracy: about 1e-5 R^3.
+double cone_cut_by_integral(const Wall& w, double R, const Vec3& x) {
+  const double rho = std::hypot(x.x, x.y);
+  const double lo = std::max(x.z - R, 0.0), hi = std::min(x.z + R, w.length);
+  if (hi <= lo) return 0;
+  auto slice = [&](double z) {
+    const double a2 = R * R - (z - x.z) * (z - x.z);
+    if (a2 <= 0) return 0.0;
+    const double a = std::sqrt(a2), c = w.radius + (w.end_radius - w.radius) * z / w.length;
+    const double r_lo = w.inside ? std::max(c, rho - a) : std::max(0.0, rho - a), r_hi = w.inside ? rho + a : std::min(c, rho + a);
+    if (r_hi <= r_lo) return 0.0;
+    auto ring = [&](double r) {
+      const double cos_top = r * rho > 0 ? (r * r + rho * rho - a2) / (2 * r * rho) : -1.0;
+      return 2 * r * (cos_top <= -1 ? M_PI : cos_top >= 1 ? 0 : std::acos(cos_top));
+    };
+    return simpson(ring, r_lo, r_hi, 2000);
+  };
+  return simpson(slice, lo, hi, 2000);
+}
+
+// Cones narrowing and widening, particles inside and outside, balls across the face, at the
+// ends and beyond them: the volume against the independent integral, its rate as the centre
+// moves against central differences, and a cone of equal radii against the cylinder.
+TEST(HinderedVolumes, ConeCutAgainstAnIntegralAndItsRateAgainstDifferences) {
+  const double R = 1;
+  double worst = 0, worst_rate = 0;
+  int reached = 0;
+  for (const bool inside : {true, false})
+    for (const auto& [r0, r1] : {std::pair{3.0, 6.0}, {6.0, 1.5}, {0.5, 4.0}}) {
+      const Wall w = cone_wall(r0, r1, 5.0, inside);
+      for (const double z : {-0.7, 0.3, 2.5, 4.6, 5.5})
+        for (const double across : {-1.5, -0.6, 0.0, 0.5, 1.3}) {
+          // Across the face: a signed offset from the cone's radius at that height, outwards.
+          const double c = r0 + (r1 - r0) * std::clamp(z, 0.0, 5.0) / 5.0;
+          const double rho = c + across;
+          if (rho < 0) continue;
+          const Vec3 x{rho * 0.6, rho * 0.8, z};
+          const VolumeRate v = cone_cut_volume(w, R, x, {});
+          const double reference = cone_cut_by_integral(w, R, x);
+          worst = std::max(worst, std::abs(v.volume - reference));
+          EXPECT_NEAR(v.volume, reference, 1e-4) << inside << " " << r0 << " " << r1 << " z " << z << " rho " << rho;
+          reached += reference > 1e-3;
+          // The rate along a direction that moves the centre along the axis and away from it.
+          const Vec3 e = Vec3{0.3, 0.5, 0.8} / norm(Vec3{0.3, 0.5, 0.8});
+          const double h = 1e-6;
+          const double difference =
+              (cone_cut_volume(w, R, x + h * e, {}).volume - cone_cut_volume(w, R, x - h * e, {}).volume) / (2 * h);
+          const double rate = cone_cut_volume(w, R, x, e).rate;
+          worst_rate = std::max(worst_rate, std::abs(rate - difference));
+          EXPECT_NEAR(rate, difference, 1e-6) << inside << " " << r0 << " " << r1 << " z " << z << " rho " << rho;
+        }
+    }
+  std::printf("%d balls reaching behind; largest difference from the independent integral %.2g R^3, of the rate from "
+              "central differences %.2g R^2\n", reached, worst, worst_rate);
+  EXPECT_GT(reached, 60);
+  // Equal radii, far from the ends: the cylinder's.
+  for (const bool inside : {true, false})
+    for (double dist = -0.9; dist < 1.1; dist += 0.17) {
+      const double rho = inside ? 4.0 - dist : 4.0 + dist;
+      const VolumeRate v = cone_cut_volume(cone_wall(4.0, 4.0, 100.0, inside), R, {rho, 0, 50}, {inside ? -1.0 : 1.0, 0, 0});
+      const VolumeSlope cylinder = cylinder_cut_volume(R, 4.0, dist, inside);
+      EXPECT_NEAR(v.volume, cylinder.volume, 1e-9) << inside << " " << dist;
+      EXPECT_NEAR(v.rate, cylinder.slope, 1e-8) << inside << " " << dist;  // the centre moving away from the surface
+    }
+}
+
+// Grains of 1 to 2.5 mm in still water with hindered settling beside `wall`, placed at random
+// without overlap at place(rng) where clear(x, d) holds: for five grains whose balls reach
+// beyond the wall (centres within 0.6 R of it), the room the force field's wall leaves them
+// (the ball less cut(x, R), the part behind it) and the solid fraction it finds there,
+// against Monte Carlo (40 000 points of the ball's cube, those behind(y) left out).
+template <class Place, class Clear, class Behind, class Cut>
+void room_against_monte_carlo(const Wall& wall, const Domain& domain, std::size_t n, std::uint64_t seed, Place place,
+                              Clear clear, Behind behind, Cut cut) {
   auto [w, model] = testing::make_world({"quartz", kRhoP, 1e7, 0.17}, testing::spec_of("hertz_tsuji", "none", 0.5), 1e-6);
-  const double Rc = 0.008;
-  w.domain = {{-0.01, -0.01, 0}, {0.01, 0.01, 0.03}, {false, false, false}};
-  Wall pipe;
-  pipe.shape = WallShape::cylinder;
-  pipe.axis = {0, 0, 1};
-  pipe.radius = Rc;
-  w.walls.push_back(pipe);
+  w.domain = domain;
+  w.walls.push_back(wall);
   model.fluid = water(true);
-  Random rng(11);
-  while (w.particles.size() < 120) {
+  Random rng(seed);
+  while (w.particles.size() < n) {
     const double d = 0.001 + 0.0015 * rng.uniform();
-    const Vec3 x{(2 * rng.uniform() - 1) * Rc, (2 * rng.uniform() - 1) * Rc, 0.008 + 0.014 * rng.uniform()};
-    bool free = std::hypot(x.x, x.y) < Rc - d / 2;
+    const Vec3 x = place(rng);
+    bool free = clear(x, d);
     for (std::size_t j = 0; j < w.particles.size() && free; ++j) free = norm(x - w.particles.position[j]) > w.particles.radius[j] + d / 2;
     if (free) w.particles.add(static_cast<std::int64_t>(w.particles.size()), 0, d, kRhoP, x, {});
   }
@@ -305,13 +392,12 @@ TEST(HinderedSettling, TheLocalSolidFractionInAPipeAgainstMonteCarlo) {
   int near_wall = 0;
   for (std::size_t i = 0; i < p.size() && near_wall < 5; ++i) {
     const double R = 3 * p.radius[i], own = 4.0 / 3.0 * M_PI * std::pow(p.radius[i], 3);
-    const double dist = Rc - std::hypot(p.position[i].x, p.position[i].y);
-    if (dist > 0.6 * R) continue;  // a grain whose ball reaches well beyond the wall
+    if (wall.touch(p.position[i]).distance > 0.6 * R) continue;  // a grain whose ball reaches well beyond the wall
     ++near_wall;
     int inside = 0, filled = 0;
     for (int k = 0; k < 40000; ++k) {
       const Vec3 y = p.position[i] + R * Vec3{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};
-      if (norm(y - p.position[i]) > R || std::hypot(y.x, y.y) > Rc) continue;
+      if (norm(y - p.position[i]) > R || behind(y)) continue;
       ++inside;
       for (std::size_t j = 0; j < p.size(); ++j)
         if (j != i && norm(y - p.position[j]) < p.radius[j]) {
@@ -324,13 +410,39 @@ TEST(HinderedSettling, TheLocalSolidFractionInAPipeAgainstMonteCarlo) {
     const double share = double(filled) / inside, se = std::sqrt(share * (1 - share) / inside);
     const double expected = suspension_fraction(share * room, 0, room, 0, own).solid_fraction;
     const Crowding c = forces.crowding(i);
-    const double exact_room = ball - cylinder_cut_volume(R, Rc, dist, true).volume;
-    std::printf("grain %zu, %.4f m from the pipe's wall: room %.4g (Monte Carlo %.4g) m^3; phi %.4f, expected %.4f +- %.4f\n", i,
-                dist, exact_room, room, c.solid_fraction, expected, 5 * se);
+    const double exact_room = ball - cut(p.position[i], R);
+    std::printf("grain %zu, %.4f m from the wall: room %.4g (Monte Carlo %.4g) m^3; phi %.4f, expected %.4f +- %.4f\n", i,
+                wall.touch(p.position[i]).distance, exact_room, room, c.solid_fraction, expected, 5 * se);
     EXPECT_NEAR(room, exact_room, 0.03 * exact_room);
     EXPECT_NEAR(c.solid_fraction, expected, 5 * se + 0.02 * expected);
   }
   EXPECT_EQ(near_wall, 5);
+}
+
+// Grains in a hopper (a cone widening upwards) and in a pipe.
+TEST(HinderedSettling, TheLocalSolidFractionInAConeAgainstMonteCarlo) {
+  const Wall hopper = cone_wall(0.004, 0.014, 0.02, true);  // its radius 0.004 + 0.5 z
+  room_against_monte_carlo(
+      hopper, {{-0.02, -0.02, -0.005}, {0.02, 0.02, 0.03}, {false, false, false}}, 150, 12,
+      [](Random& rng) { return Vec3{(2 * rng.uniform() - 1) * 0.014, (2 * rng.uniform() - 1) * 0.014, 0.002 + 0.016 * rng.uniform()}; },
+      // clear of the face (its normal at 27 degrees to the radius)
+      [](const Vec3& x, double d) { return std::hypot(x.x, x.y) < 0.004 + 0.5 * x.z - 0.6 * d; },
+      [&](const Vec3& y) { return behind_cone(hopper, y); },
+      [&](const Vec3& x, double R) { return cone_cut_volume(hopper, R, x, {}).volume; });
+}
+
+TEST(HinderedSettling, TheLocalSolidFractionInAPipeAgainstMonteCarlo) {
+  const double Rc = 0.008;
+  Wall pipe;
+  pipe.shape = WallShape::cylinder;
+  pipe.axis = {0, 0, 1};
+  pipe.radius = Rc;
+  room_against_monte_carlo(
+      pipe, {{-0.01, -0.01, 0}, {0.01, 0.01, 0.03}, {false, false, false}}, 120, 11,
+      [&](Random& rng) { return Vec3{(2 * rng.uniform() - 1) * Rc, (2 * rng.uniform() - 1) * Rc, 0.008 + 0.014 * rng.uniform()}; },
+      [&](const Vec3& x, double d) { return std::hypot(x.x, x.y) < Rc - d / 2; },
+      [&](const Vec3& y) { return std::hypot(y.x, y.y) > Rc; },
+      [&](const Vec3& x, double R) { return cylinder_cut_volume(R, Rc, Rc - std::hypot(x.x, x.y), true).volume; });
 }
 
 // A cubic lattice of equal grains falling through still water in a box periodic along all

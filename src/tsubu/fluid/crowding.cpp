@@ -105,6 +105,99 @@ VolumeSlope cylinder_cut_volume(double R, double cylinder_radius, double dist, b
   return {2 * volume + whole, 2 * slope};  // both halves, z < 0 and z > 0
 }
 
+namespace {
+
+// Circles of radii a and c whose centres are d apart: their common area; the half-angle, at
+// a's centre, of a's arc inside c (pi: all of it; its area's derivative with respect to a is
+// 2 a alpha); and half their common chord (the derivative with respect to d is minus the chord).
+struct LensParts {
+  double area, alpha, half_chord;
+};
+LensParts circle_lens_parts(double a, double c, double d) {
+  if (d >= a + c) return {0, 0, 0};
+  if (d <= c - a) return {M_PI * a * a, M_PI, 0};
+  if (d <= a - c) return {M_PI * c * c, 0, 0};
+  const double k = std::sqrt((-d + a + c) * (d + a - c) * (d - a + c) * (d + a + c));  // 4 x the triangle's area
+  const double alpha = std::acos(std::clamp((d * d + a * a - c * c) / (2 * d * a), -1.0, 1.0));
+  const double gamma = std::acos(std::clamp((d * d + c * c - a * a) / (2 * d * c), -1.0, 1.0));
+  return {a * a * alpha + c * c * gamma - 0.5 * k, alpha, 0.5 * k / d};
+}
+
+// The distance from (s, rho) in a half-plane through the axis to the segment from (s0, r0)
+// to (s1, r1).
+double to_segment(double s, double rho, double s0, double r0, double s1, double r1) {
+  const double ds = s1 - s0, dr = r1 - r0;
+  const double t = std::clamp(((s - s0) * ds + (rho - r0) * dr) / (ds * ds + dr * dr), 0.0, 1.0);
+  return std::hypot(s - s0 - t * ds, rho - r0 - t * dr);
+}
+
+}  // namespace
+
+VolumeRate cone_cut_volume(const Wall& cone, double R, const Vec3& x, const Vec3& v) {
+  // In a half-plane through the axis the region behind is, with c(s) = radius + k s the
+  // cone's radius at s along the axis: 0 <= s <= length and rho >= c(s) for particles inside
+  // (rho <= c(s) outside). Out of the ball's reach when its centre is farther from it than R.
+  const double L = cone.length, k = (cone.end_radius - cone.radius) / L;
+  const Vec3 rel = x - cone.point;
+  const double s_c = dot(rel, cone.axis);
+  const Vec3 off = rel - s_c * cone.axis;
+  const double rho = norm(off);
+  const double ds = dot(v, cone.axis), drho = rho > 0 ? dot(off, v) / rho : 0.0;  // the centre's rates
+  const double c_c = cone.radius + k * s_c;
+  const bool within = s_c >= 0 && s_c <= L && (cone.inside ? rho >= c_c : rho <= c_c);
+  if (!within) {
+    double reach = to_segment(s_c, rho, 0, cone.radius, L, cone.end_radius);  // the face
+    // The ends: from the rims outwards (inside), or inwards to the axis (outside).
+    const double far = cone.inside ? std::max(rho, std::max(cone.radius, cone.end_radius)) + R : 0.0;
+    reach = std::min({reach, to_segment(s_c, rho, 0, cone.radius, 0, far), to_segment(s_c, rho, L, cone.end_radius, L, far)});
+    if (reach >= R) return {};
+  }
+  // Slices at s = s_c + u: a disk of radius a(u) = sqrt(R^2 - u^2) whose centre is rho from
+  // the axis, and the cone's circle of radius c_c + k u.
+  const double lo = std::max(-R, -s_c), hi = std::min(R, L - s_c);
+  if (!(lo < hi)) return {};
+  std::array<double, 6> cuts{};  // the kinks inside (lo, hi): a = |c - rho| and a = c + rho
+  std::size_t n_cuts = 0;
+  for (const double e : {c_c - rho, c_c + rho}) {
+    // R^2 - u^2 = (e + k u)^2: (1 + k^2) u^2 + 2 e k u + e^2 - R^2 = 0.
+    const double disc = (1 + k * k) * R * R - e * e;
+    if (disc <= 0) continue;
+    for (const double sign : {-1.0, 1.0}) {
+      const double u = (-e * k + sign * std::sqrt(disc)) / (1 + k * k);
+      if (u > lo && u < hi) cuts[n_cuts++] = u;
+    }
+  }
+  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(n_cuts));
+  static const GaussLegendre<24> rule;
+  double volume = 0, rate = 0;
+  auto slice = [&](double u, double du) {
+    const double a = std::sqrt(std::max(R * R - u * u, 0.0));
+    const LensParts lens = circle_lens_parts(a, c_c + k * u, rho);
+    // d(a^2)/dt = 2 u ds (at a fixed height), d(lens)/da = 2 a alpha, d(lens)/drho = -2 h.
+    if (cone.inside) {
+      volume += (M_PI * a * a - lens.area) * du;
+      rate += (2 * (M_PI - lens.alpha) * u * ds + 2 * lens.half_chord * drho) * du;
+    } else {
+      volume += lens.area * du;
+      rate += (2 * lens.alpha * u * ds - 2 * lens.half_chord * drho) * du;
+    }
+  };
+  // Each piece from p to q in two halves, each mapped as u = end + (mid - end) w^2: square
+  // roots at the ends (of the areas at a kink, of a at u = +-R) become smooth in w.
+  auto piece = [&](double p, double q) {
+    const double mid = 0.5 * (p + q);
+    for (std::size_t i = 0; i < rule.x.size(); ++i) {
+      const double w = rule.x[i], weight = 2 * w * rule.w[i];
+      slice(p + (mid - p) * w * w, (mid - p) * weight);
+      slice(q - (q - mid) * w * w, (q - mid) * weight);
+    }
+  };
+  double from = lo;
+  for (std::size_t i = 0; i < n_cuts; ++i) piece(from, cuts[i]), from = cuts[i];
+  piece(from, hi);
+  return {volume, rate};
+}
+
 SuspensionFraction suspension_fraction(double solid, double solid_rate, double room, double room_rate, double own) {
   if (solid == 0) return {0, 0};  // a lone grain
   // g(phi) = phi room - solid - own (1 - S(phi)) rises from <= 0 at solid/room to >= 0 at

@@ -1,7 +1,7 @@
 // The solid fraction around each grain, for hindered settling (Fluid::hindered): from the
 // volume that the other grains fill in a ball of radius R_i = c r_i (c =
 // Fluid::hindered_ball_ratio) around grain i, less the part behind any wall (exact
-// sphere-sphere intersection volumes; a plane's cap; beyond a cylinder, by quadrature),
+// sphere-sphere intersection volumes; a plane's cap; beyond a cylinder or a cone, by quadrature),
 // corrected for the correlation hole around a grain (docs/engine.md, "Hindered settling").
 // A lone grain sees 0. The rate follows from the derivatives of the same volumes, so the
 // hindered drag's jerk is exact.
@@ -57,8 +57,22 @@ VolumeSlope cap_volume(double R, double dist);
 // (tests/unit/test_hindered.cpp).
 VolumeSlope cylinder_cut_volume(double R, double cylinder_radius, double dist, bool inside);
 
+// The part of a ball of radius R centred at x behind a cone's face (Wall, shape cone): beyond
+// its surface on the far side from the particles, between the planes of its two ends, m^3,
+// and that volume's rate as the centre moves at v relative to the cone, m^3/s. By slices
+// across the axis, each a disk of the ball meeting the cone's circle there (circle-circle
+// areas, exact), summed by Gauss-Legendre quadrature between the heights where the integrand
+// has kinks (a slice's disk touching the circle, holding it, the cone's ends), each piece
+// mapped so that the square roots at its ends are smooth; the rate from the derivatives of
+// the slices' areas (their arcs and chords). Zero where the ball does not reach that region.
+struct VolumeRate {
+  double volume = 0, rate = 0;
+};
+VolumeRate cone_cut_volume(const Wall& cone, double R, const Vec3& x, const Vec3& v);
+
 // The part of a ball of radius R around a grain at distance `dist` from wall w on its side,
-// which lies behind the wall: a plane's cap, or beyond a cylinder's surface.
+// which lies behind the wall: a plane's cap, or beyond a cylinder's surface (cones:
+// cone_cut_volume).
 inline VolumeSlope volume_behind(const Wall& w, double R, double dist) {
   return w.shape == WallShape::cylinder ? cylinder_cut_volume(R, w.radius, dist, w.inside) : cap_volume(R, dist);
 }
@@ -115,7 +129,13 @@ class CrowdList {
     }
     double room = ball_volume(R), room_rate = 0;
     for (const Wall& w : world.walls) {
-      const WallTouch touch = w.touch(self.x);  // a plane or a cylinder (the scenario refuses other shapes here)
+      if (w.shape == WallShape::cone) {
+        const VolumeRate behind = cone_cut_volume(w, R, self.x, self.v - w.velocity);
+        room -= behind.volume;
+        if (Rates) room_rate -= behind.rate;
+        continue;
+      }
+      const WallTouch touch = w.touch(self.x);  // a plane or a cylinder (the scenario refuses holes and meshes here)
       const double dist = touch.distance;
       if (dist >= R) continue;
       const VolumeSlope behind = volume_behind(w, R, dist);

@@ -303,11 +303,11 @@ void read_surface_motion(Section& s, Wall& w, const Vec3& about, const std::stri
   w.axis_offset = s.vec3("center", w.point) - w.point;
 }
 
-// A wall that is neither a whole plane nor a cylinder (`what`, named by `key`): no hindered
-// settling (the room it leaves a grain is measured for whole planes and cylinders).
-void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, const std::string& what) {
+// A plane with a hole or a mesh (`what`, named by `key`): no hindered settling (the room a
+// wall leaves a grain is measured for whole planes, cylinders and cones).
+void refuse_with_hindered_settling(Section& s, const Scenario& sc, const char* key, const std::string& what) {
   if (sc.fluid.hindered)
-    s.fail(key, "hindered settling measures the room a whole plane or a cylinder leaves a grain; " + what +
+    s.fail(key, "hindered settling measures the room a whole plane, a cylinder or a cone leaves a grain; " + what +
                     " is not available with fluid.hindered_settling = true yet");
 }
 
@@ -315,7 +315,6 @@ void refuse_with_curved_walls(Section& s, const Scenario& sc, const char* key, c
 // surface may turn about the axis. It does not move otherwise, and only the fixed steps take it.
 void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string& shape) {
   w.shape = shape == "cone" ? WallShape::cone : WallShape::cylinder;
-  if (w.shape == WallShape::cone) refuse_with_curved_walls(s, sc, "shape", "a cone");
   const std::string keys = w.shape == WallShape::cone ? "point (the centre of its first rim), axis, length, radius, end_radius"
                                                       : "point (on its axis), axis, radius";
   for (const char* key : {"normal", "motion", "surface_velocity", "center"})
@@ -404,7 +403,7 @@ void read_mesh_turning(Section& s, Wall& w) {
 // it may move with `motion` as a plane does, and turn.
 void read_mesh_wall(Section& s, Scenario& sc, Wall& w, const std::filesystem::path& folder) {
   w.shape = WallShape::mesh;
-  refuse_with_curved_walls(s, sc, "shape", "a mesh");
+  refuse_with_hindered_settling(s, sc, "shape", "a mesh");
   for (const char* key : {"point", "normal", "axis", "radius", "end_radius", "length", "side", "hole_radius"})
     if (s.has(key))
       s.fail(key, "is not a mesh's: a mesh takes file, units, scale, rotation_axis, rotation_degrees, translate, material, "
@@ -498,7 +497,7 @@ void read_wall(Section s, Scenario& sc, const std::filesystem::path& folder) {
   w.normal = n / norm(n);
   if (s.has("hole_radius")) {  // an outlet about `point`
     w.hole_radius = s.positive("hole_radius");
-    refuse_with_curved_walls(s, sc, "hole_radius", "a plane with a hole");
+    refuse_with_hindered_settling(s, sc, "hole_radius", "a plane with a hole");
   }
   read_motion(s, w);
   read_surface_motion(s, w, w.normal, "the wall's normal");

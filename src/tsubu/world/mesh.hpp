@@ -91,8 +91,9 @@ class TriangleMesh {
   // there to x. False for a triangle surely out of the ball's reach (kReachMargin), which is
   // not asked about further (r = INFINITY: none is). `feature`, where given, gets the nearest
   // feature of a contact that counts (for the touch's rates: touch_triangle_with_rates), a face
-  // where the surface is flat there (an edge between coplanar triangles, a vertex inside them),
-  // whose touch is then the plane's. `spare`, where given, is set for a flat edge or vertex
+  // where the surface is flat there (an edge between coplanar triangles, a vertex inside them;
+  // counted only with the centre over it, its touch the plane's to round-off). `spare`, where
+  // given, is set for a flat edge or vertex
   // that t has and does not own: its touch (the plane's) and feature are given, and it counts
   // where no contact of the mesh at the same point does (ForceField::touch_wall).
   bool touch(std::uint32_t t, const Vec3& x, double r, WallTouch& out, NearestFeature* feature = nullptr,
