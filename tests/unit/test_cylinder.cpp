@@ -294,5 +294,54 @@ TEST(CurvedWallBlockSteps, ABallInATurningDrumFollowsVelocityVerletsPath) {
   EXPECT_LT(norm(block.velocity[0] - verlet.velocity[0]), 1e-4);
 }
 
+// A moving cylinder or cone (`motion`: a lifted tube, a moving hopper) acts as the still one
+// seen from the wall: a ball with Mindlin friction and spin in a turning drum, or sliding down
+// a hopper's face, started at the wall's velocity V, keeps its path relative to the wall, x - V t,
+// and its velocity less V, as in the still wall's run, to round-off; with velocity Verlet
+// and with block steps.
+void moves_as_in_the_still_wall(Integrator integrator, double dt) {
+  const Vec3 V{0.2, 0.3, -0.1}, g{0, 0, -9.81};
+  Wall drum = cylinder(0.05, true);
+  drum.angular_velocity = {0, 3, 0};
+  Wall hopper;
+  hopper.shape = WallShape::cone;
+  hopper.point = {0, 0, 0}, hopper.axis = {0, 0, 1};
+  hopper.radius = 0.01, hopper.end_radius = 0.03, hopper.length = 0.02;
+  const double r = 0.004;
+  // On the drum's floor; on the hopper's face, along its inward normal from the face's middle.
+  const Vec3 on_floor{0, 0, -(0.05 - r) + 2e-6};
+  const Vec3 on_face = Vec3{0.02, 0, 0.01} + (r - 1e-6) * Vec3{-1, 0, 1} / std::sqrt(2.0);  // the face at 45 degrees
+  for (const auto& [wall, start] : {std::pair{drum, on_floor}, std::pair{hopper, on_face}}) {
+    auto run = [&](const Vec3& velocity) {
+      auto [world, model] = testing::make_world({"glass", 2500, 1e8, 0.3}, testing::spec_of("hertz_tsuji", "mindlin", 0.5, 0.5),
+                                                dt, g);
+      Wall w = wall;
+      if (!(velocity == Vec3{})) w.motion = {{1.0, velocity}};
+      world.walls.push_back(w);
+      world.particles.add(0, 0, 2 * r, 2500, start, velocity);
+      world.particles.omega[0] = {5, -3, 2};
+      Simulation sim(std::move(world), std::move(model), integrator, {});
+      sim.start();
+      sim.advance_to(std::llround(0.05 / dt));
+      return std::pair{sim.world().particles, sim.world().time};
+    };
+    const auto [moving, t] = run(V);
+    const auto [still, t_still] = run({});
+    const Vec3 dx = moving.position[0] - t * V - still.position[0], dv = moving.velocity[0] - V - still.velocity[0];
+    std::printf("%s, moving against still: %.3g m, %.3g m/s, %.3g rad/s; moved %.4g m on the wall\n",
+                wall.shape == WallShape::cone ? "hopper" : "drum", norm(dx), norm(dv), norm(moving.omega[0] - still.omega[0]),
+                norm(still.position[0] - start));
+    EXPECT_GT(still.contact_count[0], 0);
+    EXPECT_GT(norm(still.position[0] - start), 1e-4);
+    EXPECT_LT(norm(dx), 1e-12);
+    EXPECT_LT(norm(dv), 1e-10);
+    EXPECT_LT(norm(moving.omega[0] - still.omega[0]), 1e-7);
+  }
+}
+TEST(CylinderWall, AMovingCylinderOrConeActsAsTheStillOneSeenFromIt) { moves_as_in_the_still_wall(Integrator::velocity_verlet, 1e-6); }
+TEST(CurvedWallBlockSteps, AMovingCylinderOrConeActsAsTheStillOneSeenFromIt) {
+  moves_as_in_the_still_wall(Integrator::block_hermite, 2e-4);
+}
+
 }  // namespace
 }  // namespace tsubu

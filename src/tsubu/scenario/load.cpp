@@ -311,17 +311,30 @@ void refuse_with_hindered_settling(Section& s, const Scenario& sc, const char* k
                     " is not available with fluid.hindered_settling = true yet");
 }
 
-// A cylinder (shape = "cylinder") or a cone (shape = "cone"): its axis, size and side; its
-// surface may turn about the axis. It does not move otherwise, and only the fixed steps take it.
+// A wall's motion in stretches of constant velocity (a plane's, a cylinder's, a cone's, a mesh's).
+void read_motion(Section& s, Wall& w) {
+  double previous = 0;
+  for (Section m : s.tables("motion")) {
+    WallMotion stretch;
+    stretch.until = stretch_end(m, previous);
+    stretch.velocity = m.vec3("velocity");
+    m.finish();
+    w.motion.push_back(stretch);
+  }
+}
+
+// A cylinder (shape = "cylinder") or a cone (shape = "cone"): its axis, size and side; it may
+// move in a straight line in stretches (`motion`, as a plane: a lifted tube, a moving hopper)
+// and its surface may turn about the axis.
 void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string& shape) {
   w.shape = shape == "cone" ? WallShape::cone : WallShape::cylinder;
   const std::string keys = w.shape == WallShape::cone ? "point (the centre of its first rim), axis, length, radius, end_radius"
                                                       : "point (on its axis), axis, radius";
-  for (const char* key : {"normal", "motion", "surface_velocity", "center"})
+  for (const char* key : {"normal", "surface_velocity", "center"})
     if (s.has(key))
       s.fail(key, "is not a " + shape + "'s: a " + shape + " takes " + keys +
-                      ", side, material and angular_velocity or surface_motion (turning about its axis); it does not move "
-                      "otherwise");
+                      ", side, material, motion (moving in a straight line) and angular_velocity or surface_motion (turning "
+                      "about its axis)");
   w.point = s.vec3("point");
   const Vec3 a = s.vec3("axis");
   if (!std::isnormal(norm(a)))
@@ -339,19 +352,8 @@ void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string&
     w.radius = s.positive("radius");
   }
   w.inside = s.choice("side", {"inside", "outside"}, std::string("inside")) == "inside";
+  read_motion(s, w);
   read_surface_motion(s, w, w.axis, "the " + shape + "'s axis");
-}
-
-// A wall's motion in stretches of constant velocity (a plane's, a mesh's).
-void read_motion(Section& s, Wall& w) {
-  double previous = 0;
-  for (Section m : s.tables("motion")) {
-    WallMotion stretch;
-    stretch.until = stretch_end(m, previous);
-    stretch.velocity = m.vec3("velocity");
-    m.finish();
-    w.motion.push_back(stretch);
-  }
 }
 
 // A file's bytes, for the scenario's hash (a resume refuses a mesh file that changed).

@@ -28,8 +28,18 @@ double Simulation::inflow_mass_entered() const {
 }
 
 void Simulation::start() {
-  if (block_) block_->start(world_, forces_);
-  else evaluate(0);
+  if (block_) {
+    block_->start(world_, forces_);
+  } else {
+    // The first evaluation's contacts see each wall's motion of the stretch that holds the
+    // start (as block steps' walls_at; each drift sets it for its own step): a grain touching
+    // a moving wall at t = 0 felt it standing still.
+    for (Wall& w : world_.walls) {
+      if (!w.motion.empty()) w.velocity = w.velocity_at(world_.time);
+      w.surface_during(world_.time);
+    }
+    evaluate(0);
+  }
   admit_inflow();
 }
 

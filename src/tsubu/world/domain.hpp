@@ -130,7 +130,8 @@ class TriangleMesh;  // world/mesh.hpp
 //
 // A cylinder: infinitely long, about the line through `point` along the unit vector `axis`,
 // of `radius`, with the particles inside it or outside. Its surface may turn about its axis
-// (a rotating drum: the rotation moves no geometry); it does not move otherwise.
+// (a rotating drum: the rotation moves no geometry); with a `motion` it moves in a straight
+// line as a plane does (`point`, and so the axis, advancing; a cone alike).
 //
 // A cone: the surface of a truncated cone (a hopper, a funnel, a pipe of finite length) about
 // the same kind of axis, from the circle of `radius` about `point` to the circle of
