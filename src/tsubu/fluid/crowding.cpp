@@ -17,22 +17,20 @@ VolumeSlope cap_volume(double R, double dist) {
 
 namespace {
 
-// The area common to circles of radii a and b whose centres are d apart, and (minus) its
-// derivative with respect to d: the length of their common chord (zero when apart or when
-// one holds the other).
-struct LensArea {
-  double area, chord;
+// Circles of radii a and c whose centres are d apart: their common area; the half-angle, at
+// a's centre, of a's arc inside c (pi: all of it; its area's derivative with respect to a is
+// 2 a alpha); and half their common chord (the derivative with respect to d is minus the chord).
+struct LensParts {
+  double area, alpha, half_chord;
 };
-LensArea circle_lens(double a, double b, double d) {
-  if (d >= a + b) return {0, 0};
-  if (d <= std::abs(a - b)) {
-    const double r = std::min(a, b);
-    return {M_PI * r * r, 0};
-  }
-  const double k = std::sqrt((-d + a + b) * (d + a - b) * (d - a + b) * (d + a + b));  // 4 x the triangle's area
-  const double ca = std::clamp((d * d + a * a - b * b) / (2 * d * a), -1.0, 1.0);
-  const double cb = std::clamp((d * d + b * b - a * a) / (2 * d * b), -1.0, 1.0);
-  return {a * a * std::acos(ca) + b * b * std::acos(cb) - 0.5 * k, k / d};
+LensParts circle_lens_parts(double a, double c, double d) {
+  if (d >= a + c) return {0, 0, 0};
+  if (d <= c - a) return {M_PI * a * a, M_PI, 0};
+  if (d <= a - c) return {M_PI * c * c, 0, 0};
+  const double k = std::sqrt((-d + a + c) * (d + a - c) * (d - a + c) * (d + a + c));  // 4 x the triangle's area
+  const double alpha = std::acos(std::clamp((d * d + a * a - c * c) / (2 * d * a), -1.0, 1.0));
+  const double gamma = std::acos(std::clamp((d * d + c * c - a * a) / (2 * d * c), -1.0, 1.0));
+  return {a * a * alpha + c * c * gamma - 0.5 * k, alpha, 0.5 * k / d};
 }
 
 // Gauss-Legendre nodes and weights on [0, 1], n points (Newton's method on P_n).
@@ -83,9 +81,9 @@ VolumeSlope cylinder_cut_volume(double R, double cylinder_radius, double dist, b
       const double dt = (to - from) * (root_at_from ? 2 * u : 1.0) * rule.w[k];
       const double z = z_star * std::sin(t), dz = z_star * std::cos(t) * dt;
       const double a = std::sqrt(std::max(R * R - z * z, 0.0));
-      const LensArea lens = circle_lens(a, cylinder_radius, rho);
+      const LensParts lens = circle_lens_parts(a, cylinder_radius, rho);
       volume += (inside ? M_PI * a * a - lens.area : lens.area) * dz;
-      slope -= lens.chord * dz;
+      slope -= 2 * lens.half_chord * dz;
     }
   };
   // Slices wider than rho + Rc hold the cylinder's whole circle (a ball wider than a narrow
@@ -106,22 +104,6 @@ VolumeSlope cylinder_cut_volume(double R, double cylinder_radius, double dist, b
 }
 
 namespace {
-
-// Circles of radii a and c whose centres are d apart: their common area; the half-angle, at
-// a's centre, of a's arc inside c (pi: all of it; its area's derivative with respect to a is
-// 2 a alpha); and half their common chord (the derivative with respect to d is minus the chord).
-struct LensParts {
-  double area, alpha, half_chord;
-};
-LensParts circle_lens_parts(double a, double c, double d) {
-  if (d >= a + c) return {0, 0, 0};
-  if (d <= c - a) return {M_PI * a * a, M_PI, 0};
-  if (d <= a - c) return {M_PI * c * c, 0, 0};
-  const double k = std::sqrt((-d + a + c) * (d + a - c) * (d - a + c) * (d + a + c));  // 4 x the triangle's area
-  const double alpha = std::acos(std::clamp((d * d + a * a - c * c) / (2 * d * a), -1.0, 1.0));
-  const double gamma = std::acos(std::clamp((d * d + c * c - a * a) / (2 * d * c), -1.0, 1.0));
-  return {a * a * alpha + c * c * gamma - 0.5 * k, alpha, 0.5 * k / d};
-}
 
 // The distance from (s, rho) in a half-plane through the axis to the segment from (s0, r0)
 // to (s1, r1).

@@ -309,10 +309,7 @@ void BlockHermite::walls_at(World& world, std::int64_t t) const {
   // until_wall_event), which the contacts' forces and gap rules at t take. (A turning mesh's
   // angle is its closed form at t, Wall::turn_to.)
   const double now = static_cast<double>(t) * tick(world);
-  for (Wall& w : world.walls) {
-    if (!w.motion.empty()) w.velocity = w.velocity_at(now);
-    w.surface_during(now);
-  }
+  for (Wall& w : world.walls) w.motion_during(now);
 }
 
 double BlockHermite::until_wall_event(const World& world, std::uint32_t i, std::int64_t t) const {

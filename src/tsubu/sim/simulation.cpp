@@ -34,10 +34,7 @@ void Simulation::start() {
     // The first evaluation's contacts see each wall's motion of the stretch that holds the
     // start (as block steps' walls_at; each drift sets it for its own step): a grain touching
     // a moving wall at t = 0 felt it standing still.
-    for (Wall& w : world_.walls) {
-      if (!w.motion.empty()) w.velocity = w.velocity_at(world_.time);
-      w.surface_during(world_.time);
-    }
+    for (Wall& w : world_.walls) w.motion_during(world_.time);
     evaluate(0);
   }
   admit_inflow();

@@ -323,11 +323,14 @@ struct Wall {
 
   // Moves the plane over the step [t, t + dt], and sets its surface's motion for it.
   void advance(double t, double dt) {
-    surface_during(t + 0.5 * dt);
+    motion_during(t + 0.5 * dt);
     turn_to(t + dt);  // a turning mesh, where the evaluation at the step's end sees it
-    if (motion.empty()) return;
-    velocity = velocity_at(t + 0.5 * dt);
-    point += velocity * dt;
+    if (!motion.empty()) point += velocity * dt;
+  }
+  // The velocity and surface motion of the stretches that hold the time t.
+  void motion_during(double t) {
+    if (!motion.empty()) velocity = velocity_at(t);
+    surface_during(t);
   }
   // The surface's motion of the stretch that holds the time t (standing still after the last).
   void surface_during(double t) {
