@@ -204,7 +204,7 @@ TEST(Decomposition, OpenFacesAndInsertionKeepTheBits) {
 std::string checkpoint_bytes(const Scenario& sc, Simulation& sim) {
   Checkpoint c;
   store_simulation(sc, sim, c);
-  c.evaluations = c.rebuilds = 0;
+  c.counters = {};
   std::string bytes;
   with_state_lent(sim, c, [&] { bytes = encode_checkpoint(c); });
   return bytes;

@@ -21,7 +21,7 @@ inline std::string final_state(const std::filesystem::path& out, bool extended =
   c.wall_seconds = 0;
   c.record.loop_seconds = 0;
   c.record.loop_sessions = 0;
-  c.rebuilds = 0;
+  c.counters.rebuilds = 0;
   c.run_id.clear();
   return encode_checkpoint(c);
 }

@@ -102,8 +102,7 @@ Checkpoint sample_checkpoint() {
   c.step = 4242;
   c.time = 4242 * 1e-6;
   c.dt = 1e-6;
-  c.evaluations = 99;
-  c.rebuilds = 7;
+  c.counters = {99, 2999, 7};
   c.wall_seconds = 1.5;
   c.output = {3, {{0.0, "frame_00000.vtu"}, {0.1, "frame_00001.vtu"}}, 1234, 567};
   for (int k = 0; k < 3; ++k) {
@@ -132,6 +131,7 @@ TEST(CheckpointFormat, RoundTripsEveryFieldBitForBit) {
   EXPECT_EQ(d.overrides, c.overrides);
   EXPECT_EQ(d.run_id, c.run_id);
   EXPECT_EQ(d.step, c.step);
+  EXPECT_EQ(d.counters.particle_evaluations, 2999u);
   EXPECT_EQ(d.output.pvd, c.output.pvd);
   EXPECT_EQ(d.particles.torque[1], c.particles.torque[1]);
   EXPECT_EQ(d.pair_contacts[0].history.rolling, c.pair_contacts[0].history.rolling);
@@ -282,10 +282,11 @@ TEST(CheckpointFormat, TruncationCorruptionAndOtherVersionsAreRefused) {
 // An older version's files are refused, saying that an older tsubu wrote them (version 2
 // stored a pair's spring as seen from its smaller index: the same bytes with another meaning;
 // version 3 lacks the block steps' counts of steps by rule; version 4 has a touching flag
-// per contact; version 5 lacks the rolling spring).
+// per contact; version 5 lacks the rolling spring; version 6 lacks the count of particle
+// force evaluations).
 TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
-  ASSERT_EQ(kCheckpointVersion, 6u);
-  for (char version : {2, 3, 4, 5}) {
+  ASSERT_EQ(kCheckpointVersion, 7u);
+  for (char version : {2, 3, 4, 5, 6}) {
     std::string old = encode_checkpoint(sample_checkpoint());
     old[8] = version;
     try {
@@ -293,7 +294,7 @@ TEST(CheckpointFormat, AnOlderVersionIsRefusedAsOlder) {
       ADD_FAILURE() << "accepted a version " << int(version) << " checkpoint";
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find("format version " + std::to_string(version) +
-                                           ", this tsubu reads version 6 (an older tsubu wrote it"),
+                                           ", this tsubu reads version 7 (an older tsubu wrote it"),
                 std::string::npos)
           << e.what();
     }

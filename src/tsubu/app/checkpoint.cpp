@@ -27,7 +27,7 @@ static_assert(sizeof(OutputState) == sizeof(std::int64_t) + sizeof(OutputState::
               "OutputState changed: write the new field in encode_checkpoint/decode_checkpoint");
 static_assert(sizeof(EnergyWatch::State) == 3 * sizeof(double),
               "EnergyWatch::State changed: write the new field in encode_checkpoint/decode_checkpoint");
-static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector<std::string>) + 3 * sizeof(std::uint64_t) +
+static_assert(sizeof(Checkpoint) == 4 * sizeof(std::string) + sizeof(std::vector<std::string>) + 4 * sizeof(std::uint64_t) +
                                         3 * sizeof(double) + sizeof(std::int64_t) + sizeof(OutputState) +
                                         sizeof(Particles) + 2 * sizeof(std::vector<Contact>) +
                                         2 * sizeof(std::vector<Vec3>) + sizeof(EnergyWatch::State) +
@@ -216,8 +216,9 @@ void write_payload(const Checkpoint& c, Writer& w) {
   w.pod(c.step);
   w.pod(c.time);
   w.pod(c.dt);
-  w.u64(c.evaluations);
-  w.u64(c.rebuilds);
+  w.u64(c.counters.evaluations);
+  w.u64(c.counters.particle_evaluations);
+  w.u64(c.counters.rebuilds);
   w.pod(c.wall_seconds);
   w.pod(c.output.frame);
   w.u64(c.output.pvd.size());
@@ -311,8 +312,9 @@ Checkpoint decode_checkpoint(const std::string& bytes) {
   c.step = r.pod<std::int64_t>();
   c.time = r.pod<double>();
   c.dt = r.pod<double>();
-  c.evaluations = r.u64();
-  c.rebuilds = r.u64();
+  c.counters.evaluations = r.u64();
+  c.counters.particle_evaluations = r.u64();
+  c.counters.rebuilds = r.u64();
   c.wall_seconds = r.pod<double>();
   c.output.frame = r.pod<std::int64_t>();
   c.output.pvd.resize(r.count(16));

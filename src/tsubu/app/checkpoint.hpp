@@ -33,7 +33,7 @@ struct Checkpoint {
   std::uint64_t scenario_hash = 0;
   std::int64_t step = 0;
   double time = 0, dt = 0;
-  std::uint64_t evaluations = 0, rebuilds = 0;  // ForceField counters
+  ForceField::Counters counters;
   double wall_seconds = 0;                      // run time so far, over all sessions
   OutputState output;
   Particles particles;  // every array, force/torque/contact_count of the last evaluation included
@@ -86,7 +86,7 @@ class CheckpointError : public std::runtime_error {
 // (BlockStepStats::set_by_own, set_by_cluster); 5: particles in the order of their ids and
 // only the touching contacts (no touching flag), so that the bytes do not depend on the
 // particles' numbering or on when the lists were built.
-inline constexpr std::uint32_t kCheckpointVersion = 6;
+inline constexpr std::uint32_t kCheckpointVersion = 7;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
 // size, FNV-1a 64 of the payload) and the payload. The particles of c may be in any order

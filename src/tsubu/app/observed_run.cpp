@@ -35,7 +35,7 @@ ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
   const Communicator& comm = Communicator::world();
   if (comm.rank() == 0) {
     mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
-    mirror_->forces().restore_counters(sim.forces().evaluations(), sim.forces().rebuilds());
+    mirror_->forces().restore_counters(sim.forces().counters());
   }
   decomposition_ = split_among_processes(comm, sim, sim.world().domain, sc.parallel);
 }
@@ -95,7 +95,7 @@ void ObservedRun::gather() {
   mirror_->world() = std::move(all.world);
   if (const InflowFeed* inflow = part_.inflow()) mirror_->feed(*inflow);  // every process's stream is alike
   mirror_->forces().adopt_results(std::move(all.pair_results), std::move(all.wall_results));
-  mirror_->forces().restore_counters(part_.forces().evaluations(), part_.forces().rebuilds());  // this process's work
+  mirror_->forces().restore_counters(part_.forces().counters());  // this process's work
 }
 
 }  // namespace tsubu

@@ -21,8 +21,7 @@ void store_simulation(const Scenario& sc, const Simulation& sim, Checkpoint& c) 
   c.step = world.step;
   c.time = world.time;
   c.dt = world.dt;
-  c.evaluations = sim.forces().evaluations();
-  c.rebuilds = sim.forces().rebuilds();
+  c.counters = sim.forces().counters();
   if (const BlockHermite* b = sim.block()) {
     c.block.present = true;
     c.block.state = b->state();
@@ -110,7 +109,7 @@ Simulation restore_simulation(const Scenario& sc, Checkpoint& c, const std::file
   } else if (c.block.present) {
     throw std::runtime_error(used.string() + ": holds a block-step state, but the scenario is not a block-step run");
   }
-  sim.forces().restore_counters(c.evaluations, c.rebuilds);
+  sim.forces().restore_counters(c.counters);
   if (const ParticleSource* src = inflow_source(sc)) {
     if (!c.inflow.present) throw std::runtime_error(used.string() + ": lacks the state of the scenario's inflow");
     InflowFeed inflow(sc, *src, c.inflow.first_id);

@@ -416,6 +416,7 @@ void ForceField::accumulate(World& world, double fluid_lead) {
     touching[static_cast<std::size_t>(t)] = local_touching;
   });
   for (std::uint64_t c : touching) evaluations_ += c;
+  particle_evaluations_ += owned;
   const double max_ratio = *std::max_element(worst.begin(), worst.end());
   if (!(max_ratio <= model_->overlap_limit)) report_overlap(world, false);
 }

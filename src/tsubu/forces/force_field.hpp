@@ -227,10 +227,19 @@ class ForceField {
   // exponent as the last evaluation of i found them (a lone grain's without hindrance).
   const Crowding& crowding(std::size_t i) const { return i < crowding_.size() ? crowding_[i] : kLone; }
   std::uint64_t evaluations() const { return evaluations_; }  // contact force evaluations
-  std::uint64_t rebuilds() const { return rebuilds_; }        // neighbour-list builds
+  // Particle force evaluations of compute(): the particles (owned) summed over its calls, so
+  // that a run whose particle count grows (an inflow) counts each grain from its entry on.
+  std::uint64_t particle_evaluations() const { return particle_evaluations_; }
+  std::uint64_t rebuilds() const { return rebuilds_; }  // neighbour-list builds
   // Resuming from a checkpoint: the counters continue; the lists are rebuilt on the next
   // compute from world's contact lists (results do not depend on when lists are built).
-  void restore_counters(std::uint64_t evaluations, std::uint64_t rebuilds) { evaluations_ = evaluations, rebuilds_ = rebuilds; }
+  struct Counters {
+    std::uint64_t evaluations = 0, particle_evaluations = 0, rebuilds = 0;
+  };
+  Counters counters() const { return {evaluations_, particle_evaluations_, rebuilds_}; }
+  void restore_counters(const Counters& c) {
+    evaluations_ = c.evaluations, particle_evaluations_ = c.particle_evaluations, rebuilds_ = c.rebuilds;
+  }
 
  private:
   // Per-contact results, one array per quantity (zeros for pairs that do not touch);
@@ -300,7 +309,7 @@ class ForceField {
   std::vector<ElementTouch> wall_touch_;
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
-  std::uint64_t evaluations_ = 0, rebuilds_ = 0;
+  std::uint64_t evaluations_ = 0, particle_evaluations_ = 0, rebuilds_ = 0;
   bool started_ = false;  // an evaluation has succeeded: the run has left its initial state
   Neighbourhood* neighbourhood_ = nullptr;
   bool keeps_records_ = false;  // the lists' records outlive a list change (block steps' builds)

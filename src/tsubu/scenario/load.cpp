@@ -326,7 +326,7 @@ void read_motion(Section& s, Wall& w) {
 // A cylinder (shape = "cylinder") or a cone (shape = "cone"): its axis, size and side; it may
 // move in a straight line in stretches (`motion`, as a plane: a lifted tube, a moving hopper)
 // and its surface may turn about the axis.
-void read_round_wall(Section& s, const Scenario& sc, Wall& w, const std::string& shape) {
+void read_round_wall(Section& s, Wall& w, const std::string& shape) {
   w.shape = shape == "cone" ? WallShape::cone : WallShape::cylinder;
   const std::string keys = w.shape == WallShape::cone ? "point (the centre of its first rim), axis, length, radius, end_radius"
                                                       : "point (on its axis), axis, radius";
@@ -485,7 +485,7 @@ void read_wall(Section s, Scenario& sc, const std::filesystem::path& folder) {
     return;
   }
   if (shape != "plane") {
-    read_round_wall(s, sc, w, shape);
+    read_round_wall(s, w, shape);
     s.finish();
     sc.walls.push_back(w);
     return;

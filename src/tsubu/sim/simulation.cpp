@@ -147,9 +147,7 @@ std::pair<double, double> Simulation::radius_range() const {
 }
 
 std::uint64_t Simulation::particle_force_evaluations() const {
-  if (block_) return block_->particle_evaluations();
-  // Added particles are counted as if present from the start (an upper bound for inflows).
-  return static_cast<std::uint64_t>(world_.particles.size()) * static_cast<std::uint64_t>(world_.step + 1);
+  return block_ ? block_->particle_evaluations() : forces_.particle_evaluations();
 }
 
 }  // namespace tsubu

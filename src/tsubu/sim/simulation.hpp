@@ -66,8 +66,9 @@ class Simulation {
   // release ({0, 0} for none).
   std::pair<double, double> radius_range() const;
 
-  // Single-particle force evaluations so far: particles x (steps + 1) for fixed steps, the
-  // sum of the active sets for block steps.
+  // Single-particle force evaluations so far: the particles of each evaluation summed over
+  // them for fixed steps (each grain of an inflow from its entry on), the sum of the active
+  // sets for block steps.
   std::uint64_t particle_force_evaluations() const;
 
  private:
