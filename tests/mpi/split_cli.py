@@ -7,7 +7,8 @@ settling and an inflow (3 processes, resumed on 2); an open chute (3 processes, 
 and an insertion. What cannot be split yet, or counts that
 fit no grid, is refused (exit 2, naming the key); a failure on process 1 ends the whole job
 with its message, process 0 recording it in run.json and keeping the series and checkpoints
-as one process does; process 0 of a split run with moving walls builds its lists about as
+as one process does; a failed force check on process 1 or 0 writes one process's frames,
+the failing state's included; process 0 of a split run with moving walls builds its lists about as
 often as one process; run.json of a split run says what each process held and sent.
 (tools/compare_runs.py --new-launcher compares whole runs.)
 
@@ -243,6 +244,24 @@ def main():
               and sorted(p.name for p in (tmp / "lost2/checkpoint").glob("*.tsbk"))
               == sorted(p.name for p in (tmp / "lost1/checkpoint").glob("*.tsbk")) != [],
               "the failed split run keeps one process's series and checkpoints")
+
+        # A contact beyond the overlap limit, at a ceiling (process 1's half) and at the floor
+        # (process 0's): the failing state is gathered from every process and its frame written,
+        # the same files as one process's (the failing frame included).
+        deep = ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--set", "simulation.overlap_limit=1e-3",
+                "--set", "output.vtk_interval=0.01"]
+        ceiling = ["--set", "walls.0.point=[0, 0, 0.03]", "--set", "walls.0.normal=[0, 0, -1]",
+                   "--set", "simulation.gravity=[0, 0, 9.81]"]
+        for where, sets, rank in [("a ceiling", ceiling, 1), ("the floor", [], 0)]:
+            outs = [tmp / f"deep{processes}-{rank}" for processes in (1, 2)]
+            code1, err1 = run(tsubu, launcher, 1, deep + sets + ["--out", str(outs[0])])
+            code, err = run(tsubu, launcher, 2, deep + sets + ["--out", str(outs[1])])
+            frames = [sorted(p.name for p in (out / "frames").iterdir()) for out in outs]
+            check(code1 == 3 and code == 3 and f"tsubu: process {rank}: numerical failure: " in err and "overlap" in err
+                  and "frame_00001.vtu" in frames[0] and frames[0] == frames[1]
+                  and all((outs[0] / "frames" / f).read_bytes() == (outs[1] / "frames" / f).read_bytes() for f in frames[0]),
+                  f"an overlap at {where} on process {rank} of 2: the split run writes one process's frames, the failing "
+                  f"state's included ({code}: {err[-300:]}; {frames})")
     if failures:
         sys.exit(f"{len(failures)} failed")
 

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/stop_signal.hpp"
@@ -56,7 +57,9 @@ void ObservedRun::start() {
 }
 
 void ObservedRun::advance() {
-  part_.step();
+  gathered_current_ = false;
+  if (!split()) return part_.step();
+  failure_ = part_.step_to_its_end();
   if (!mirror_) return;
   mirror_->world().step = part_.world().step;
   mirror_->world().time = part_.world().time;
@@ -64,12 +67,26 @@ void ObservedRun::advance() {
 
 int ObservedRun::agree_after_step(bool wanted) {
   if (!split()) return g_stop_signal;
-  // One reduction for both: the largest of 2 x each process's signal number, or 1 where a
-  // process wants the state and has no signal (the numbers are small: exact in a double).
-  const double word = Communicator::world().max(g_stop_signal != 0 ? 2.0 * g_stop_signal : wanted ? 1.0 : 0.0);
+  // One reduction for all three: the largest of kFailed where a process's force check failed,
+  // else 2 x its signal number, or 1 where a process wants the state and has no signal (the
+  // numbers are small: exact in a double). A failure ends the run, whatever the signals.
+  constexpr double kFailed = 1e6;
+  const double word = Communicator::world().max(failure_ ? kFailed
+                                                : g_stop_signal != 0 ? 2.0 * g_stop_signal
+                                                : wanted ? 1.0 : 0.0);
   unread_step_ = word == 0;
   if (word > 0) gather();
+  if (word == kFailed) {
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+    failed_elsewhere_ = true;
+    return 0;
+  }
   return static_cast<int>(word / 2);
+}
+
+void ObservedRun::await_failure() {
+  Communicator::world().any(false);  // the failed process never joins: its message arrives meanwhile
+  throw std::logic_error("a split run's failed process did not report its failure");
 }
 
 bool ObservedRun::agree_last(bool last) {
@@ -84,6 +101,7 @@ bool ObservedRun::agree_last(bool last) {
 }
 
 void ObservedRun::gather() {
+  gathered_current_ = true;
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
   Outflow* outflow = part_.outflow();  // every process's records every departure
   if (!mirror_) {

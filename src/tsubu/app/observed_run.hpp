@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <optional>
 
@@ -33,12 +34,22 @@ class ObservedRun {
 
   // A fresh run's first evaluation (Simulation::start), gathered.
   void start();
-  // One step of this process's part.
+  // One step of this process's part (a failed force check is thrown at the step's end; in a
+  // split run it is kept for agree_after_step).
   void advance();
   // After a step: whether something on process 0 reads the state now (`wanted`, process 0's
-  // say) or a stop signal arrived on any process; the whole state is then gathered. Returns
-  // the signal (0: none).
+  // say), a stop signal arrived on any process, or a process's force check failed; the whole
+  // state is then gathered, and a process whose check failed throws its NumericalError.
+  // Returns the signal (0: none).
   int agree_after_step(bool wanted);
+  // Process 0 of a split run, after agree_after_step: another process's force check failed
+  // at this step (the whole failing state is gathered; its message comes with await_failure).
+  bool failed_elsewhere() const { return failed_elsewhere_; }
+  // Waits for the failed process's message, which ends the run (ProcessFailed).
+  [[noreturn]] void await_failure();
+  // Whether observed() holds the state of this process's last step: always for one process;
+  // in a split run, when it was gathered after that step (not after a failure inside it).
+  bool observed_is_current() const { return !split() || gathered_current_; }
   // Whether the run ends here, as process 0 says. After a step whose state no one read
   // (agree_after_step gathered nothing) process 0 cannot say so: its observers read the state
   // at the last step and wherever a [[stop]] condition is evaluated. Every process then knows
@@ -55,6 +66,9 @@ class ObservedRun {
   std::optional<Simulation> mirror_;  // process 0 of a split run
   std::vector<ProcessLoad> loads_;    // of the last gather, on process 0
   bool unread_step_ = false;          // the last agree_after_step gathered nothing
+  std::exception_ptr failure_;        // this process's failed force check, until agree_after_step
+  bool failed_elsewhere_ = false;
+  bool gathered_current_ = false;     // gathered since the last advance() began
 
   void gather();
 };

@@ -158,6 +158,10 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
       const bool checkpoint_due = checkpoints.due(world.step, clock);
       const bool report_due = report.active() && report.due(clock.elapsed());
       const int sig = run.agree_after_step(observers.reads_state(world.step, steps) || checkpoint_due || report_due);
+      if (run.failed_elsewhere()) {  // another process's force check failed: the state it failed in, then its message
+        observers.failure_frame(sim);
+        run.await_failure();
+      }
       deciding = true;
       last = run.agree_last(observers.after_step(sim, world.step, steps));
       deciding = false;
@@ -181,8 +185,10 @@ RunSummary execute(const Scenario& sc, ObservedRun& run, const std::string& out_
     end_with("interrupted", msg);
     throw Interrupted(msg);
   } catch (const NumericalError& e) {
-    // Nothing of the failing state goes into a checkpoint: the last good one stays.
-    if (!run.split()) observers.failure_frame(sim);  // a split run's state is on its processes
+    // Nothing of the failing state goes into a checkpoint: the last good one stays. Its frame
+    // is written where the whole failing state is at hand (in a split run, gathered after a
+    // failed force check or where the observers read it; not after a failure inside a step).
+    if (run.observed_is_current()) observers.failure_frame(sim);
     throw NumericalError(failed(e.what()));
   } catch (const ProcessFailed& e) {  // another process of a split run failed
     throw ProcessFailed(e.process, e.code, e.kind, failed(e.what()));

@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "tsubu/core/error.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
@@ -40,15 +41,23 @@ void Simulation::start() {
   admit_inflow();
 }
 
-void Simulation::step() {
+std::exception_ptr Simulation::step_to_its_end() {
+  std::exception_ptr failure;
   if (block_) {
     if (sort_due()) renumber();
     block_->advance(world_, forces_);
     remove_departed_at_block_end();
   } else {
-    advance(integrator_, world_, [this](double fluid_lead) { evaluate(fluid_lead); });
+    advance(integrator_, world_, [&](double fluid_lead) {
+      try {
+        evaluate(fluid_lead);
+      } catch (const NumericalError&) {  // the force check, after every particle's force is set
+        failure = std::current_exception();
+      }
+    });
   }
-  admit_inflow();
+  if (!failure) admit_inflow();
+  return failure;
 }
 
 void Simulation::evaluate(double fluid_lead) {

@@ -4,6 +4,7 @@
 // it; other drivers (Python, MPI) drive the same object.
 #pragma once
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -43,8 +44,17 @@ class Simulation {
   // multiple of dt (where every particle's time is the same); then the inflow's grains due
   // enter. The particles are renumbered along a space-filling curve (sort_spatially) at
   // every search.sort_every-th step: before the evaluation at that step (fixed steps) or
-  // before the block times from it (block steps).
-  void step();
+  // before the block times from it (block steps). With fixed steps a failed force check
+  // (an overlap beyond simulation.overlap_limit, a force that is not finite: NumericalError)
+  // ends the step first, its last kick included, and is thrown at its end, before the
+  // inflow's grains enter: a run split among processes gathers that state from every process
+  // for the failing state's frame (step_to_its_end, ObservedRun).
+  void step() {
+    if (std::exception_ptr failure = step_to_its_end()) std::rethrow_exception(failure);
+  }
+  // step(), but the failed force check returned instead of thrown (null: none); the inflow's
+  // grains then do not enter.
+  std::exception_ptr step_to_its_end();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);
   // Particles appended to world().particles between steps (from index `first` on, e.g. by an
