@@ -19,15 +19,19 @@ namespace tsubu {
   xi += g.v_t * g.dt;
 }
 
-// The same step on a spring with its rate: the value moves as above; the rate is that of
-// the continuous spring at the end of the step, d xi/dt = v_t - n (xi . dn/dt), which keeps
-// it in the turning tangent plane.
+// The same step on a spring with its rate (block steps, where a contact's step is long): the
+// value moves as above by the tangential displacement of the step to second order, the
+// integral of v_t over the step from its value and rate at the step's end,
+// h v_t - h^2/2 dv_t/dt (the rectangle rule h v_t alone errs to first order in the step);
+// the rate is that of the continuous spring at the end of the step,
+// d xi/dt = v_t - n (xi . dn/dt), which keeps it in the turning tangent plane.
 template <void (*Advance)(Vec3&, const ContactGeometry&)>
 inline void advance_with_rate(DualVec3& xi, const DualContactGeometry& g) {
   Vec3 x = value(xi);
-  const ContactGeometry plain{value(g.n), g.delta.v, g.v_n.v, value(g.v_t), g.r_eff, g.m_eff, g.d_mean, g.d_small, g.dt, {}, 0};
+  const Vec3 mean_v_t = value(g.v_t) - (0.5 * g.dt) * rate(g.v_t);  // over the step, to second order
+  const ContactGeometry plain{value(g.n), g.delta.v, g.v_n.v, mean_v_t, g.r_eff, g.m_eff, g.d_mean, g.d_small, g.dt, {}, 0};
   Advance(x, plain);
-  xi = DualVec3(x, plain.v_t - dot(x, rate(g.n)) * plain.n);
+  xi = DualVec3(x, value(g.v_t) - dot(x, rate(g.n)) * plain.n);
 }
 inline void advance_spring(DualVec3& xi, const DualContactGeometry& g) { advance_with_rate<advance_spring>(xi, g); }
 

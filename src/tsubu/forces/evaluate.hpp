@@ -160,6 +160,15 @@ inline double onset_age(Dual delta) { return delta.d > 0 ? delta.v / delta.d : 0
 // gap over its rate of opening (the grains fly apart free since). 0 when it is not opening.
 inline double release_age(double gap, double opening) { return opening > 0 ? gap / opening : 0.0; }
 
+// The time over which a contact's springs (tangential, rolling) advance in a block step: the
+// step since the contact was last evaluated, or for a contact that began within it (not
+// touching then, and handed no history by a neighbouring triangle) the time since its onset,
+// so that its first stretch counts the touching part of the step only.
+inline double spring_step(double step, bool was_touching, const ContactHistory& h, Dual delta) {
+  const bool fresh = !was_touching && h.xi == Vec3{} && h.rolling == Vec3{} && h.normal[0] == 0 && h.normal[1] == 0;
+  return fresh ? std::min(step, onset_age(delta)) : step;
+}
+
 // One scalar of the number type in a lane: a Dual as its two doubles, left uninitialised like
 // a double (a lane is written before it is read).
 struct DualSlot {
@@ -313,7 +322,9 @@ void ForceField::evaluate_pair_block(World& world, const State& state, const Ent
     BasicContactGeometry<T> g =
         pair_geometry<T>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], d, mi.v, mj.v, mi.w, mj.w);
     if (rolls_) g.rolling_inertia = 1 / (1 / rolling_inertia(p, c.i) + 1 / rolling_inertia(p, c.j));  // read by epsd only
-    lanes.set_geometry(b, g, state.step(c.i, c.j));
+    double step = state.step(c.i, c.j);
+    if constexpr (kRates) step = spring_step(step, was_touching[b], c.history, g.delta);
+    lanes.set_geometry(b, g, step);
     lanes.set_history(b, c.history);
   }
   if (shared) {
@@ -408,6 +419,7 @@ void ForceField::evaluate_wall(World& world, const State& state, std::size_t k, 
   const BasicWallTouch<T> moving = touch_with_rates<T>(wall, a, touch, v_rel, kind, feature);
   BasicContactGeometry<T> g = wall_geometry<T>(r, p.mass[i], moving.normal, moving.distance, v_rel, a.w);
   g.dt = state.step(i);
+  if constexpr (kRates) g.dt = spring_step(g.dt, was_touching, c.history, g.delta);
   if (rolls_) g.rolling_inertia = rolling_inertia(p, i);
   const auto f = evaluate_law(normal, tangential, rolling, g, c.history);
   const Vector<T> n_x_ft = cross(g.n, f.tangential);
