@@ -85,7 +85,8 @@ class CheckpointError : public std::runtime_error {
 // (ContactList), not from the smaller index; 4: block steps store the steps chosen by rule
 // (BlockStepStats::set_by_own, set_by_cluster); 5: particles in the order of their ids and
 // only the touching contacts (no touching flag), so that the bytes do not depend on the
-// particles' numbering or on when the lists were built.
+// particles' numbering or on when the lists were built; 6: the contacts' rolling spring;
+// 7: the particle force evaluations (ForceField::Counters).
 inline constexpr std::uint32_t kCheckpointVersion = 7;
 
 // The file's bytes: a 32-byte header (magic "TSUBUCKP", version, byte-order mark, payload
