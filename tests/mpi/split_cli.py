@@ -226,24 +226,34 @@ def main():
 
         # A grain leaves the box through the top, in process 1's half: the whole job ends with
         # its message, and process 0 records the failure as one process does (run.json, the
-        # series up to the failing step, the last good checkpoint named and kept).
+        # series up to the failing step, the last good checkpoint named and kept), and writes
+        # the failing state's frame, gathered from every process where the drift left them (the
+        # step ends there on every process: in its ghosts' refresh, or with an open face in
+        # the exchange of the departures).
         lost = ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--set", "simulation.gravity=[0, 0, 1000]",
-                "--set", "output.checkpoint_every_steps=100"]
-        code1, err1 = run(tsubu, launcher, 1, lost + ["--out", str(tmp / "lost1")])
-        started = time.monotonic()
-        code, err = run(tsubu, launcher, 2, lost + ["--out", str(tmp / "lost2")])
-        check(code1 == 3 and code == 3 and "tsubu: process 1: numerical failure: " in err and "left the domain" in err,
-              f"a failure on process 1 ends the job with 3 and its message in {time.monotonic() - started:.0f} s "
-              f"({code}: {err[-600:]})")
-        summaries = [json.loads((tmp / f / "run.json").read_text()) for f in ("lost1", "lost2")]
-        check(summaries[1]["status"] == "failed" and summaries[1]["message"] == summaries[0]["message"].replace("lost1", "lost2")
-              and "checkpoint" in summaries[1]["message"] and summaries[1]["steps"] == summaries[0]["steps"],
-              f"process 0 records process 1's failure in run.json as one process does ({summaries[1]['status']}: "
-              f"{summaries[1]['message'][-200:]})")
-        check((tmp / "lost2/series.csv").read_bytes() == (tmp / "lost1/series.csv").read_bytes()
-              and sorted(p.name for p in (tmp / "lost2/checkpoint").glob("*.tsbk"))
-              == sorted(p.name for p in (tmp / "lost1/checkpoint").glob("*.tsbk")) != [],
-              "the failed split run keeps one process's series and checkpoints")
+                "--set", "output.checkpoint_every_steps=100", "--set", "output.vtk_interval=0.002"]
+        for variant, sets in [("", []), ("open", ["--set", 'domain.open=["z_min"]'])]:
+            outs = [tmp / f"lost{variant}{processes}" for processes in (1, 2)]
+            code1, err1 = run(tsubu, launcher, 1, lost + sets + ["--out", str(outs[0])])
+            started = time.monotonic()
+            code, err = run(tsubu, launcher, 2, lost + sets + ["--out", str(outs[1])])
+            check(code1 == 3 and code == 3 and "tsubu: process 1: numerical failure: " in err and "left the domain" in err,
+                  f"a failure on process 1 ends the job with 3 and its message in {time.monotonic() - started:.0f} s "
+                  f"({variant}; {code}: {err[-600:]})")
+            summaries = [json.loads((out / "run.json").read_text()) for out in outs]
+            check(summaries[1]["status"] == "failed"
+                  and summaries[1]["message"] == summaries[0]["message"].replace(outs[0].name, outs[1].name)
+                  and "checkpoint" in summaries[1]["message"] and summaries[1]["steps"] == summaries[0]["steps"],
+                  f"process 0 records process 1's failure in run.json as one process does ({variant}; "
+                  f"{summaries[1]['status']}: {summaries[1]['message'][-200:]})")
+            check((outs[1] / "series.csv").read_bytes() == (outs[0] / "series.csv").read_bytes()
+                  and sorted(p.name for p in (outs[1] / "checkpoint").glob("*.tsbk"))
+                  == sorted(p.name for p in (outs[0] / "checkpoint").glob("*.tsbk")) != [],
+                  f"the failed split run keeps one process's series and checkpoints ({variant})")
+            frames = [sorted(p.name for p in (out / "frames").iterdir()) for out in outs]
+            check(len(frames[0]) > 2 and frames[0] == frames[1]
+                  and all((outs[0] / "frames" / f).read_bytes() == (outs[1] / "frames" / f).read_bytes() for f in frames[0]),
+                  f"a grain lost on process 1 of 2: one process's frames, the failing state's included ({variant}; {frames})")
 
         # A contact beyond the overlap limit, at a ceiling (process 1's half) and at the floor
         # (process 0's): the failing state is gathered from every process and its frame written,

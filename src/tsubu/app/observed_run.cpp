@@ -67,9 +67,10 @@ void ObservedRun::advance() {
 
 int ObservedRun::agree_after_step(bool wanted) {
   if (!split()) return g_stop_signal;
-  // One reduction for all three: the largest of kFailed where a process's force check failed,
-  // else 2 x its signal number, or 1 where a process wants the state and has no signal (the
-  // numbers are small: exact in a double). A failure ends the run, whatever the signals.
+  // One reduction for all three: the largest of kFailed where a process's force check failed
+  // (or the step was abandoned: a process's drift lost a particle), else 2 x its signal
+  // number, or 1 where a process wants the state and has no signal (the numbers are small:
+  // exact in a double). A failure ends the run, whatever the signals.
   constexpr double kFailed = 1e6;
   const double word = Communicator::world().max(failure_ ? kFailed
                                                 : g_stop_signal != 0 ? 2.0 * g_stop_signal
@@ -77,7 +78,12 @@ int ObservedRun::agree_after_step(bool wanted) {
   unread_step_ = word == 0;
   if (word > 0) gather();
   if (word == kFailed) {
-    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+    if (const std::exception_ptr mine = std::exchange(failure_, nullptr)) {
+      try {
+        std::rethrow_exception(mine);
+      } catch (const StepAbandoned&) {  // not this process's failure: as below
+      }
+    }
     failed_elsewhere_ = true;
     return 0;
   }

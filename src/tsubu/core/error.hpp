@@ -41,4 +41,19 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A particle that the drift of a fixed step took out of the box, or made not finite
+// (report_lost): the step ends there, before its evaluation.
+class ParticleLost : public NumericalError {
+ public:
+  using NumericalError::NumericalError;
+};
+
+// In a run split among processes, another process lost a particle in this step's drift
+// (ParticleLost): every process ends the step where it learns of it, in the step's first
+// exchange, so that the failing state gathered from all of them is one process's.
+class StepAbandoned : public std::runtime_error {
+ public:
+  StepAbandoned() : std::runtime_error("another process lost a particle in this step's drift") {}
+};
+
 }  // namespace tsubu

@@ -99,7 +99,7 @@ void ForceField::body_loads(const Particles& p, std::size_t first, std::size_t l
 }
 
 void ForceField::compute(World& world, double fluid_lead) {
-  if (neighbourhood_ && neighbourhood_->update(world)) built_at_.clear();
+  if (neighbourhood_ && neighbourhood_->update(world, false)) built_at_.clear();
   admit_new_particles(world.particles);
   if (needs_rebuild(world)) rebuild(world);
   evaluate_pairs(world);

@@ -91,8 +91,10 @@ class Neighbourhood {
   virtual ~Neighbourhood() = default;
   // Refreshes the copies of the other processes' particles in world (World::ghosts), or
   // rearranges the particles among the processes; true when it did (the lists must be
-  // built again).
-  virtual bool update(World& world) = 0;
+  // built again). `lost`: this process lost a particle in the step's drift (ParticleLost),
+  // and calls this instead of an evaluation. Throws StepAbandoned on every process when
+  // any process lost one, before anything is rearranged.
+  virtual bool update(World& world, bool lost) = 0;
   // The elementwise "or" of `flags` over the processes (the same length on each).
   virtual void agree_any(std::vector<char>& flags) const = 0;
   // `arrivals`, the same particles on every process (grains that join the run between

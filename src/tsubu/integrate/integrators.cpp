@@ -10,24 +10,18 @@
 
 namespace tsubu {
 
-namespace {
-
-[[noreturn]] void report_lost(const World& world) {
+void report_lost(const World& world) {
   const Particles& p = world.particles;
   std::size_t i = 0;
   while (i + 1 < p.size() && world.domain.kept(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
   const Vec3 x = p.position[i], v = p.velocity[i];
-  // The drift belongs to the step under way: the counter advances after it.
-  const std::int64_t step = world.step + 1;
   std::ostringstream msg;
-  msg << "step " << step << ", t = " << static_cast<double>(step) * world.dt << " s: particle id " << p.id[i]
+  msg << "step " << world.step << ", t = " << world.time << " s: particle id " << p.id[i]
       << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", " << x.z << ") m, v = (" << v.x
       << ", " << v.y << ", " << v.z << ") m/s; a wall may be missing, or the time step " << world.dt
       << " s is too large";
-  throw NumericalError(msg.str());
+  throw ParticleLost(msg.str());
 }
-
-}  // namespace
 
 void kick(World& world, double h) {
   Particles& p = world.particles;
@@ -37,7 +31,7 @@ void kick(World& world, double h) {
   });
 }
 
-void kick_drift(World& world, double h_kick, double h_drift) {
+bool kick_drift(World& world, double h_kick, double h_drift) {
   Particles& p = world.particles;
   const std::size_t n = world.owned();
   const int threads = threads_for(n);
@@ -54,8 +48,8 @@ void kick_drift(World& world, double h_kick, double h_drift) {
     }
     lost[static_cast<std::size_t>(t)] = any;
   });
-  if (std::find(lost.begin(), lost.end(), 1) != lost.end()) report_lost(world);
   for (Wall& w : world.walls) w.advance(world.time, h_drift);
+  return std::find(lost.begin(), lost.end(), 1) != lost.end();
 }
 
 void next_step(World& world) {

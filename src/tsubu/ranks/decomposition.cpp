@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "tsubu/core/error.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 
 namespace tsubu {
@@ -225,21 +226,21 @@ std::vector<std::string> Decomposition::exchange(const std::vector<std::string>&
   return sizes ? comm_.exchange(to_each, *sizes) : comm_.exchange(to_each);
 }
 
-bool Decomposition::refresh_ghosts(World& world, bool flag) {
+char Decomposition::refresh_ghosts(World& world, char flags) {
   Particles& p = world.particles;
-  // To every process (all of them, so that each hears every flag): the flag, then the motion
+  // To every process (all of them, so that each hears every flag): the flags, then the motion
   // of the particles it has copies of, whose number it knows.
   constexpr std::size_t kMotion = 3 * sizeof(Vec3);
-  std::vector<std::string> motion(sent_.size(), std::string(1, flag ? '\1' : '\0'));
+  std::vector<std::string> motion(sent_.size(), std::string(1, flags));
   std::vector<std::size_t> sizes(sent_.size());
   for (std::size_t r = 0; r < sent_.size(); ++r) {
     for (std::uint32_t i : sent_[r]) put(motion[r], p.position[i]), put(motion[r], p.velocity[i]), put(motion[r], p.omega[i]);
     sizes[r] = 1 + kMotion * ghosts_from_[r];
   }
   const std::vector<std::string> received = exchange(motion, &sizes);
-  bool any = false;
+  char any = 0;
   for (std::size_t r = 0; r < received.size(); ++r) {
-    any = any || received[r][0] != '\0';
+    any = static_cast<char>(any | received[r][0]);
     std::size_t at = 1, k = received_from_[r];
     for (; at < received[r].size(); ++k) {
       p.position[k] = take<Vec3>(received[r], at);
@@ -250,15 +251,18 @@ bool Decomposition::refresh_ghosts(World& world, bool flag) {
   return any;
 }
 
-bool Decomposition::update(World& world) {
+bool Decomposition::update(World& world, bool lost) {
+  constexpr char kMoved = 1, kLost = 2;  // the flags of refresh_ghosts
   const Particles& p = world.particles;
   const double limit2 = 0.25 * skin_ * skin_;
   bool moved = false;
-  for (std::size_t i = 0; i < world.owned() && !moved; ++i)
+  for (std::size_t i = 0; i < world.owned() && !moved && !lost; ++i)
     moved = norm2(world.domain.separation(p.position[i], arranged_at_[i])) > limit2;
+  const char flags = refresh_ghosts(world, static_cast<char>((moved ? kMoved : 0) | (lost ? kLost : 0)));
+  if (flags & kLost) throw StepAbandoned();  // the state stays as the drift left it, for the failing frame
   const bool rearranged = std::exchange(rearranged_, false);  // the same on every process
   links_kept_ = false;  // an evaluation follows
-  if (!refresh_ghosts(world, moved)) return rearranged;  // no particle has moved half the skin, on any process
+  if (!(flags & kMoved)) return rearranged;  // no particle has moved half the skin, on any process
   hand_over(world, {});
   return true;
 }
@@ -272,13 +276,13 @@ void Decomposition::add(World& world, Particles arrivals, const ForceField& forc
   }
   for (double r : arrivals.radius) largest_radius_ = std::max(largest_radius_, r);  // alike on every process
   width_ = reach_per_radius_ * largest_radius_ + skin_;
-  refresh_ghosts(world, false);  // the partners' owners below are read from the ghosts' positions
+  refresh_ghosts(world, 0);  // the partners' owners below are read from the ghosts' positions
   hand_over(world, arrivals);
   rearranged_ = true;
 }
 
 void Decomposition::remove(World& world, const std::vector<std::int64_t>& ids) {
-  refresh_ghosts(world, false);  // the partners' owners in the hand-over are read from the ghosts' positions
+  refresh_ghosts(world, 0);  // the partners' owners in the hand-over are read from the ghosts' positions
   const std::vector<std::int64_t>& id = world.particles.id;
   std::vector<char> gone(id.size());
   for (std::size_t i = 0; i < id.size(); ++i) gone[i] = std::binary_search(ids.begin(), ids.end(), id[i]);

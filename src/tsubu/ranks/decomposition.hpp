@@ -60,7 +60,7 @@ class Decomposition final : public Neighbourhood {
   // scenario or read from a checkpoint), with its ghosts.
   void distribute(World& world);
   // Neighbourhood: before each evaluation.
-  bool update(World& world) override;
+  bool update(World& world, bool lost) override;
   void agree_any(std::vector<char>& flags) const override;
   void add(World& world, Particles arrivals, const ForceField& forces) override;
   void remove(World& world, const std::vector<std::int64_t>& ids) override;
@@ -103,9 +103,9 @@ class Decomposition final : public Neighbourhood {
   void arrange(World& world, Particles owned, std::vector<ContactLink> links);
   // comm_.exchange, counting the bytes sent to other processes.
   std::vector<std::string> exchange(const std::vector<std::string>& to_each, const std::vector<std::size_t>* sizes = nullptr);
-  // Brings the ghosts' motion from their owners, and with it each process's `flag`: whether
-  // any process passed true.
-  bool refresh_ghosts(World& world, bool flag);
+  // Brings the ghosts' motion from their owners, and with it each process's `flags` (bits):
+  // the "or" of every process's.
+  char refresh_ghosts(World& world, char flags);
   // Moves the grid's cuts to the work of the world's particles: of all of them when every
   // process holds the whole world (`whole`), else of every process's owned particles.
   void rebalance(const World& world, bool whole);

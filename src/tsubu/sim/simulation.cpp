@@ -48,22 +48,43 @@ std::exception_ptr Simulation::step_to_its_end() {
     block_->advance(world_, forces_);
     remove_departed_at_block_end();
   } else {
-    advance(integrator_, world_, [&](double fluid_lead) {
-      try {
-        evaluate(fluid_lead);
-      } catch (const NumericalError&) {  // the force check, after every particle's force is set
-        failure = std::current_exception();
-      }
-    });
+    try {
+      advance(integrator_, world_, [&](double fluid_lead) {
+        try {
+          evaluate(fluid_lead);
+        } catch (const NumericalError&) {  // the force check, after every particle's force is set
+          failure = std::current_exception();
+        }
+      });
+    } catch (const ParticleLost&) {  // the drift's, before the evaluation
+      Neighbourhood* split = forces_.neighbourhood();
+      if (!split) throw;
+      failure = std::current_exception();
+      announce_loss(*split);
+    } catch (const StepAbandoned&) {  // another process's drift lost a particle
+      failure = std::current_exception();
+    }
   }
   if (!failure) admit_inflow();
   return failure;
 }
 
+void Simulation::announce_loss(Neighbourhood& split) {
+  // The step's first exchange, where the other processes are in their evaluation (evaluate):
+  // the departures' with open faces, else the ghosts' refresh. It ends the step everywhere.
+  try {
+    if (outflow_) remove_departed_among_processes(split, true);
+    else split.update(world_, true);
+  } catch (const StepAbandoned&) {
+    return;
+  }
+  throw std::logic_error("a split run went on after a process lost a particle");
+}
+
 void Simulation::evaluate(double fluid_lead) {
   if (outflow_) {
     forces_.admit_new_particles(world_.particles);  // every particle's translational mass moves with it
-    if (Neighbourhood* split = forces_.neighbourhood()) remove_departed_among_processes(*split);
+    if (Neighbourhood* split = forces_.neighbourhood()) remove_departed_among_processes(*split, false);
     else if (outflow_->remove_departed(world_)) forces_.renumbered(world_);
   }
   if (sort_due()) renumber();
@@ -83,17 +104,23 @@ void Simulation::remove_departed_at_block_end() {
   block_->particles_removed(world_, forces_, kept);
 }
 
-void Simulation::remove_departed_among_processes(Neighbourhood& split) {
+void Simulation::remove_departed_among_processes(Neighbourhood& split, bool lost) {
   static_assert(std::is_trivially_copyable_v<Departure>);
-  const std::vector<Departure> mine = Outflow::departures(world_, world_.owned());
-  std::string mine_bytes;
-  if (!mine.empty()) mine_bytes.assign(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(Departure));
+  // Each process's word: whether its drift lost a particle (the step then ends on every
+  // process, StepAbandoned), then its departures.
+  std::string mine_bytes(1, lost ? '\1' : '\0');
+  if (!lost) {
+    const std::vector<Departure> mine = Outflow::departures(world_, world_.owned());
+    mine_bytes.append(reinterpret_cast<const char*>(mine.data()), mine.size() * sizeof(Departure));
+  }
+  const std::vector<std::string> words = split.gather_all(mine_bytes);
+  for (const std::string& bytes : words)
+    if (bytes[0] != '\0') throw StepAbandoned();
   std::vector<Departure> gone;
-  for (const std::string& bytes : split.gather_all(mine_bytes)) {
-    if (bytes.empty()) continue;
-    const std::size_t first = gone.size();
-    gone.resize(first + bytes.size() / sizeof(Departure));
-    std::memcpy(gone.data() + first, bytes.data(), bytes.size());
+  for (const std::string& bytes : words) {
+    const std::size_t first = gone.size(), count = (bytes.size() - 1) / sizeof(Departure);
+    gone.resize(first + count);
+    if (count > 0) std::memcpy(gone.data() + first, bytes.data() + 1, count * sizeof(Departure));
   }
   if (gone.empty()) return;  // the same on every process
   std::sort(gone.begin(), gone.end(), [](const Departure& a, const Departure& b) { return a.id < b.id; });

@@ -48,12 +48,16 @@ class Simulation {
   // (an overlap beyond simulation.overlap_limit, a force that is not finite: NumericalError)
   // ends the step first, its last kick included, and is thrown at its end, before the
   // inflow's grains enter: a run split among processes gathers that state from every process
-  // for the failing state's frame (step_to_its_end, ObservedRun).
+  // for the failing state's frame (step_to_its_end, ObservedRun). A particle the drift takes
+  // out of the box (ParticleLost) ends the step after its drift, the walls moved and the
+  // clock at the step's end, before the evaluation.
   void step() {
     if (std::exception_ptr failure = step_to_its_end()) std::rethrow_exception(failure);
   }
   // step(), but the failed force check returned instead of thrown (null: none); the inflow's
-  // grains then do not enter.
+  // grains then do not enter. In a run split among processes a lost particle is returned too,
+  // on its process, and StepAbandoned on the others, each having ended the step where the
+  // failing process's was (after the drift).
   std::exception_ptr step_to_its_end();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);
@@ -99,7 +103,11 @@ class Simulation {
   void remove_departed_at_block_end();
   // A run split among processes: each finds its own particles gone through an open face,
   // every process records all of them (in the order of their ids) and drops them.
-  void remove_departed_among_processes(Neighbourhood& split);
+  // `lost`: this process's drift lost a particle (announce_loss).
+  void remove_departed_among_processes(Neighbourhood& split, bool lost);
+  // A split run's process whose drift lost a particle (ParticleLost) takes part in the
+  // step's first exchange, which ends the step on every process (StepAbandoned).
+  void announce_loss(Neighbourhood& split);
   bool sort_due() const;
   // One renumbering for every per-particle store: the world's particles and contacts, the
   // force field's lists, the block-step state.
