@@ -408,8 +408,8 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
         active_.push_back(w);
         ++stats_.wakes;
         if (rules_.level_spread == 0)  // else each woken grain's partners are checked in turn
-          contacts.for_each_pair_of(w, [&](std::uint32_t y, std::uint32_t k) {
-            if (!is_active_[y] && contacts.pairs()[k].touching) stack.push_back(y);
+          contacts.for_each_pair_of(w, [&](std::uint32_t y, std::uint32_t c) {
+            if (!is_active_[y] && contacts.pairs()[c].touching) stack.push_back(y);
           });
       }
     });

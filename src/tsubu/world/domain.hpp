@@ -321,11 +321,24 @@ struct Wall {
     return w;
   }
 
-  // Moves the plane over the step [t, t + dt], and sets its surface's motion for it.
+  // Moves the wall over the step [t, t + dt], and sets its velocity and its surface's motion
+  // for the step: those of the stretches that hold its midpoint. The wall moves by each
+  // stretch's velocity over its part of the step, so that it stays on its closed form when a
+  // stretch ends inside the step (block steps' long intervals between block times far from
+  // any grain do that); an end within round-off of the step's start or end counts as there.
   void advance(double t, double dt) {
     motion_during(t + 0.5 * dt);
     turn_to(t + dt);  // a turning mesh, where the evaluation at the step's end sees it
-    if (!motion.empty()) point += velocity * dt;
+    if (motion.empty()) return;
+    const double end = t + dt, slack = 1e-9 * dt;
+    double from = t;
+    for (const WallMotion& m : motion) {
+      if (m.until <= from + slack) continue;
+      if (m.until >= end - slack) break;
+      point += m.velocity * (m.until - from);  // a stretch that ends inside the step
+      from = m.until;
+    }
+    point += from == t ? velocity * dt : velocity_at(0.5 * (from + end)) * (end - from);
   }
   // The velocity and surface motion of the stretches that hold the time t.
   void motion_during(double t) {
