@@ -3,7 +3,7 @@
 # report needs them, cheapest first, two runs at a time, then redraws the report's figures
 # and CSV. Each sweep skips its finished cases and resumes its interrupted ones from their
 # checkpoints, so the script can be stopped (Ctrl-C) and started again at any time; a run
-# longer than the session is not lost. About ten core-days in all (92 core-hours for the 687
+# longer than the session is not lost. About ten core-days in all (96 core-hours for the 698
 # runs made by 2026-12-06); the mixtures of Sigma = 2.77 at the lowest fluxes take most of it:
 # S = 0 at 0.1 Q_0 at rest, about 20 core-hours a run.
 #
