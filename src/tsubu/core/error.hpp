@@ -42,7 +42,7 @@ class NumericalError : public std::runtime_error {
 };
 
 // A particle that the drift of a fixed step took out of the box, or made not finite
-// (report_lost): the step ends there, before its evaluation.
+// (drift_to_step_end): the step ends there, before its evaluation.
 class ParticleLost : public NumericalError {
  public:
   using NumericalError::NumericalError;

@@ -10,7 +10,11 @@
 
 namespace tsubu {
 
-void report_lost(const World& world) {
+namespace {
+
+// Throws ParticleLost naming the first particle that is not finite or has left the box, at
+// the step the clock says.
+[[noreturn]] void report_lost(const World& world) {
   const Particles& p = world.particles;
   std::size_t i = 0;
   while (i + 1 < p.size() && world.domain.kept(p.position[i]) && std::isfinite(p.position[i].x + p.position[i].y + p.position[i].z)) ++i;
@@ -23,14 +27,9 @@ void report_lost(const World& world) {
   throw ParticleLost(msg.str());
 }
 
-void kick(World& world, double h) {
-  Particles& p = world.particles;
-  parallel_for(world.owned(), [&](std::size_t i) {
-    p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
-    p.omega[i] += p.torque[i] * (h / p.inertia[i]);
-  });
-}
-
+// v <- v + F/m h_kick, x <- x + v h_drift wrapped into the periodic box (omega likewise), the
+// walls moved by h_drift. Returns whether a particle is not finite or has left the box
+// through a side neither periodic nor open.
 bool kick_drift(World& world, double h_kick, double h_drift) {
   Particles& p = world.particles;
   const std::size_t n = world.owned();
@@ -50,6 +49,22 @@ bool kick_drift(World& world, double h_kick, double h_drift) {
   });
   for (Wall& w : world.walls) w.advance(world.time, h_drift);
   return std::find(lost.begin(), lost.end(), 1) != lost.end();
+}
+
+}  // namespace
+
+void drift_to_step_end(World& world, double h_kick, double h_drift) {
+  const bool lost = kick_drift(world, h_kick, h_drift);
+  next_step(world);
+  if (lost) report_lost(world);
+}
+
+void kick(World& world, double h) {
+  Particles& p = world.particles;
+  parallel_for(world.owned(), [&](std::size_t i) {
+    p.velocity[i] += p.force[i] * (h / p.translational_mass[i]);
+    p.omega[i] += p.torque[i] * (h / p.inertia[i]);
+  });
 }
 
 void next_step(World& world) {

@@ -28,12 +28,10 @@ inline constexpr std::array kIntegrators = {Integrator::velocity_verlet, Integra
 // The phases of a fixed step. Forces are divided by the translational mass (mass plus the
 // fluid's added mass).
 // v <- v + F/m h_kick, x <- x + v h_drift wrapped into the periodic box (omega likewise), the
-// walls moved by h_drift. Returns whether a particle is not finite or has left the box
-// through a side neither periodic nor open: the step then stops after its drift, with the
-// clock at its end (report_lost).
-bool kick_drift(World& world, double h_kick, double h_drift);
-// Throws ParticleLost naming the first such particle, at the step the clock says.
-[[noreturn]] void report_lost(const World& world);
+// walls moved by h_drift, then the clock at the step's end (next_step). A particle that is
+// not finite or has left the box through a side neither periodic nor open ends the step
+// there, before its evaluation (ParticleLost, naming it).
+void drift_to_step_end(World& world, double h_kick, double h_drift);
 // v <- v + F/m h (omega likewise). Both move only the particles the process owns.
 void kick(World& world, double h);
 // The clock after a step: world.step + 1, world.time = step dt.
@@ -42,9 +40,7 @@ void next_step(World& world);
 // v <- v + F/m dt; x <- x + v dt (and the same for rotation); then new forces.
 template <class Evaluate>
 void symplectic_euler_step(World& world, Evaluate&& evaluate) {
-  const bool lost = kick_drift(world, world.dt, world.dt);
-  next_step(world);
-  if (lost) report_lost(world);
+  drift_to_step_end(world, world.dt, world.dt);
   evaluate(0.0);
 }
 
@@ -54,9 +50,7 @@ void symplectic_euler_step(World& world, Evaluate&& evaluate) {
 // them second order.
 template <class Evaluate>
 void velocity_verlet_step(World& world, Evaluate&& evaluate) {
-  const bool lost = kick_drift(world, 0.5 * world.dt, world.dt);
-  next_step(world);
-  if (lost) report_lost(world);
+  drift_to_step_end(world, 0.5 * world.dt, world.dt);
   evaluate(0.5 * world.dt);
   kick(world, 0.5 * world.dt);
 }
