@@ -4,7 +4,7 @@
 A refactor must not move a fixed-step or block-step result by one bit. This runs short
 versions of scenarios that together cover velocity Verlet, symplectic Euler, block steps,
 the inflow (fixed and block steps), hindered settling, walls that move, a turning triangle
-mesh, periodic sides and both contact searches, with each binary, and compares series.csv, track.csv, every frame,
+mesh, open faces and insertion (fixed and block steps), periodic sides and both contact searches, with each binary, and compares series.csv, track.csv, every frame,
 contact network, wall file and .pvd index, the final checkpoint's state (as `tsubu export`
 writes it: the checkpoint itself also holds the run id and the wall-clock time) and
 run.json's results (its timings and ids are left out). Exit status 0 when everything is identical, 1 otherwise.
@@ -12,7 +12,7 @@ run.json's results (its timings and ids are left out). Exit status 0 when everyt
     python3 tools/compare_runs.py OLD_TSUBU NEW_TSUBU [--keep DIR] [--threads N] [--new-launcher CMD]
 
 With --new-launcher (a command put before NEW_TSUBU, e.g. "mpirun -np 3"), NEW_TSUBU's runs
-are split among processes (docs/parallel.md): only the cases a split run supports are run,
+are split among processes (docs/parallel.md; block steps share out their active grains),
 and run.json's force-evaluation and list-build counters (each process's own work) and its
 `processes` (the split's grid and loads) are left out of the comparison.
 
@@ -54,9 +54,12 @@ CASES = [
       "particles.0.upper=[0.04, 0.008, 0.03]"]),
     ("insertion", "tests/scenarios/insertion_bin.toml", ["simulation.duration=0.15"]),
 ]
-# The cases a run split among processes supports (no block steps).
-SPLITS = {"velocity_verlet", "symplectic_euler_model_p", "inflow", "hindered_settling", "moving_walls",
-          "hysteresis_piston", "search_multilevel", "search_cell", "mesh_walls", "open_faces", "insertion"}
+# Block steps with what the fixed-step cases above add: moving walls, a turning mesh, open
+# faces, hindered settling, insertion (run split among processes, they share out their active
+# grains: docs/parallel.md).
+BLOCK = 'simulation.integrator="block_hermite"'
+CASES += [("block_" + name, scenario, sets + [BLOCK]) for name, scenario, sets in CASES
+          if name in ("moving_walls", "mesh_walls", "open_faces", "hindered_settling", "insertion")]
 # Every case writes frames and a final checkpoint.
 COMMON = ["output.vtk_interval=0.01"]
 # run.json keys that count the work of the process that writes run.json, in a split run, and
@@ -119,12 +122,11 @@ def main():
     ap.add_argument("--new-launcher", default="", help="a command before NEW_TSUBU, e.g. \"mpirun -np 3\"")
     args = ap.parse_args()
     launcher = shlex.split(args.new_launcher)
-    cases = [c for c in CASES if not launcher or c[0] in SPLITS]
     leave_out = UNSTABLE | COUNTERS if launcher else UNSTABLE
     with tempfile.TemporaryDirectory() as tmp:
         base = pathlib.Path(args.keep or tmp)
         failed = 0
-        for case in cases:
+        for case in CASES:
             a, b = base / case[0] / "old", base / case[0] / "new"
             if not run(args.old, case, a, args.threads, may_refuse=True):
                 print(f"{case[0]:26s} skipped: OLD refuses the scenario (a feature it does not have)")

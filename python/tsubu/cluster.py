@@ -288,16 +288,24 @@ def run_case(command, log_path):
     returns its exit code. SIGINT or SIGTERM to the worker (mpirun passes a Ctrl-C on to every
     rank as SIGTERM) asks the run once to stop with a checkpoint, which it writes on its own
     should mpirun end the worker first."""
-    proc, log = start_run(command, Path(log_path))
-    handlers = {}
+    handlers, run = {}, {"proc": None, "asked": False}
 
     def ask_to_stop(signum, frame):
         for sig in handlers:  # once: a second signal would stop the run at once
             signal.signal(sig, signal.SIG_IGN)
-        proc.send_signal(signal.SIGINT)
+        if run["proc"] is None:
+            run["asked"] = True
+        else:
+            run["proc"].send_signal(signal.SIGINT)
 
+    # The handlers first: a signal that arrives while the run starts is passed on once it has
+    # (a Python handler runs between two bytecodes: before the run is recorded, or after).
     for sig in (signal.SIGINT, signal.SIGTERM):
         handlers[sig] = signal.signal(sig, ask_to_stop)
+    proc, log = start_run(command, Path(log_path))
+    run["proc"] = proc
+    if run["asked"]:
+        proc.send_signal(signal.SIGINT)
     try:
         return proc.wait()
     finally:

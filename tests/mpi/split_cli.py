@@ -4,8 +4,9 @@ of 3 processes resumed on 2 ends with one process's bits; so do a stop by SIGINT
 resume; one process killed, or the whole job killed at a random time, then resume; runs with
 rolling resistance (also on a grid given by `[parallel] counts`), a run with hindered
 settling and an inflow (3 processes, resumed on 2); an open chute (3 processes, resumed on 2)
-and an insertion. What cannot be split yet, or counts that
-fit no grid, is refused (exit 2, naming the key); a failure on process 1 ends the whole job
+and an insertion; block steps sharing out their active grains (3 processes, resumed on 2; a
+lost grain and a deep overlap failing alike). Counts that fit no grid, or [parallel] with
+block steps, are refused (exit 2, naming the key); a failure on process 1 ends the whole job
 with its message, process 0 recording it in run.json and keeping the series and checkpoints
 as one process does; a failed force check on process 1 or 0 writes one process's frames,
 the failing state's included; process 0 of a split run with moving walls builds its lists about as
@@ -210,9 +211,46 @@ def main():
             builds.append(json.loads((out / "run.json").read_text())["list_builds"])
         check(0 < builds[1] <= 2 * builds[0], f"moving walls: {builds[1]} list builds on process 0 of 3, {builds[0]} alone")
 
-        # What a split run does not support yet, and the one-process commands.
+        # Block steps: every process holds the whole run and shares out the active grains. On 3
+        # processes with checkpoints, the newest lost, resumed on 2: one process's bytes.
+        block = str(ROOT / "tests/scenarios/block_threads.toml")
+        block_sets = ["simulation.duration=0.01", "output.checkpoint_every_steps=30", "output.vtk_interval=0.002"]
+        for processes in (1, 3):
+            code, err = run(tsubu, launcher, processes, ["run", block, "--out", str(tmp / f"block{processes}")] +
+                            with_sets(block_sets))
+            check(code == 0, f"block steps on {processes} processes ({code}: {err[-400:]})")
+        checkpoints = sorted((tmp / "block3" / "checkpoint").glob("step_*.tsbk"))
+        checkpoints[-1].unlink()
+        code, err = run(tsubu, launcher, 2, ["resume", str(tmp / "block3")])
+        check(code == 0, f"block steps' checkpoint of 3 processes resumes on 2 ({code}: {err[-400:]})")
+        same_files(tmp / "block1", tmp / "block3", "block steps on 3 processes, resumed on 2")
+        # A grain lost through the top and an overlap beyond the limit: every process fails
+        # alike at the same block time; process 0 says it and writes one process's files, the
+        # failing state's frame included.
+        small = ["run", str(ROOT / "tests/scenarios/valid_small.toml"), "--set", 'simulation.integrator="block_hermite"']
+        for name, sets, says in [
+            ("lost", ["simulation.gravity=[0, 0, 1000]", "output.checkpoint_every_steps=100", "output.vtk_interval=0.002"],
+             "left the domain"),
+            ("deep", ["simulation.overlap_limit=1e-3", "output.vtk_interval=0.01"], "overlap"),
+        ]:
+            outs = [tmp / f"block_{name}{processes}" for processes in (1, 2)]
+            codes = [run(tsubu, launcher, processes, small + with_sets(sets) + ["--out", str(out)])
+                     for processes, out in zip((1, 2), outs)]
+            summaries = [json.loads((out / "run.json").read_text()) for out in outs]
+            frames = [sorted(p.name for p in (out / "frames").iterdir()) for out in outs]
+            check([c for c, _ in codes] == [3, 3] and "tsubu: process 0: numerical failure: " in codes[1][1]
+                  and says in codes[1][1] and summaries[1]["status"] == "failed"
+                  and summaries[1]["message"] == summaries[0]["message"].replace(outs[0].name, outs[1].name)
+                  and (outs[1] / "series.csv").read_bytes() == (outs[0] / "series.csv").read_bytes()
+                  and len(frames[0]) > 2 and frames[0] == frames[1]
+                  and all((outs[0] / "frames" / f).read_bytes() == (outs[1] / "frames" / f).read_bytes() for f in frames[0]),
+                  f"block steps, {says} on 2 processes: one process's message, series and frames, the failing "
+                  f"state's included ({codes[1][0]}: {codes[1][1][-300:]}; {frames})")
+
+        # What a split run refuses, and the one-process commands.
         for scenario, sets, key in [
-            ("tests/scenarios/block_threads.toml", [], 'simulation.integrator = "block_hermite"'),
+            ("tests/scenarios/block_threads.toml", ["parallel.counts=[1, 1, 2]"],
+             "parallel.counts: block steps share out the active particles among the processes, not the box"),
             ("tests/scenarios/settle_mono.toml", ["parallel.counts=[2, 2, 1]"],
              "parallel.counts: no grid of 2 subdomains (mpirun -np 2) has 2 x 2 x 1"),
         ]:

@@ -1,4 +1,5 @@
-// Runs split among processes (ranks/decomposition.hpp) end with the bits of one process.
+// Runs split among processes (ranks/decomposition.hpp), and block steps shared among them
+// (ranks/shared_block_steps.hpp), end with the bits of one process.
 // Each test runs under `mpirun -np N` (tests/CMakeLists.txt: N = 1 to 4, one and two threads
 // per process); process 0 also runs the scenario alone and compares the states a checkpoint
 // stores (every particle array, the touching contacts and their histories, the walls) and
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tsubu/app/checkpoint.hpp"
@@ -16,6 +18,7 @@
 #include "tsubu/app/simulation_state.hpp"
 #include "tsubu/io/contact_network.hpp"
 #include "tsubu/ranks/decomposition.hpp"
+#include "tsubu/ranks/shared_block_steps.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/simulation.hpp"
 #include "tsubu/source/build_world.hpp"
@@ -197,6 +200,45 @@ TEST(Decomposition, OpenFacesAndInsertionKeepTheBits) {
                     {"simulation.duration=0.05", "particles.0.lower=[0.02, 0, 0]", "particles.0.upper=[0.04, 0.008, 0.03]"},
                     {n, 1, 1}});
   expect_same_bits({"tests/scenarios/insertion_bin.toml", {"simulation.duration=0.12"}, {1, 1, n}});  // contacts from 0.09 s
+}
+
+// Block steps shared among the processes (ranks/shared_block_steps.hpp): every process holds
+// the whole run and ends each step with one process's bits, the contacts' outputs and the
+// stepper's statistics included. A settling lattice whose free grains are all active at the
+// ends of dt (every parallel loop engages) and whose lower layers step finer on the floor;
+// the rain of grains into water, with its inflow and frequent renumbering; a turning mesh.
+// block_run_bytes: the state, the contacts' outputs and the block steps' counts of a run.
+std::string block_run_bytes(const Simulation& sim) {
+  const BlockStepStats& stats = sim.block()->stats();
+  return state_of(sim.world()) + contact_outputs_of(sim.world(), sim.forces()) + std::to_string(stats.block_times) +
+         " " + std::to_string(stats.wakes) + " " + std::to_string(sim.block()->particle_evaluations()) + " " +
+         std::to_string(sim.forces().evaluations());
+}
+
+TEST(SharedBlockSteps, EndWithTheBitsOfOneProcessOnEveryProcess) {
+  const Communicator& comm = Communicator::world();
+  for (const auto& [scenario, overrides] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"tests/scenarios/block_threads.toml", {"simulation.duration=0.003"}},
+           {"tests/scenarios/rain_small.toml", {"simulation.duration=0.15", "search.sort_every=3"}},
+           {"tests/scenarios/mesh_mixer.toml", {"simulation.duration=0.01", "simulation.integrator=\"block_hermite\""}}}) {
+    const Scenario sc = load_scenario(std::string(TSUBU_SOURCE_DIR) + "/" + scenario, overrides);
+    const std::int64_t steps = std::llround(sc.duration / sc.dt);
+    Simulation shared = new_simulation(sc);
+    const std::unique_ptr<ActiveShare> share = share_block_steps(comm, shared);
+    shared.start();
+    shared.advance_to(steps);
+    const std::vector<std::string> every = comm.gather(block_run_bytes(shared));
+    if (comm.rank() != 0) continue;
+    SCOPED_TRACE(scenario + " on " + std::to_string(comm.size()) + " processes, " + std::to_string(omp_get_max_threads()) +
+                 " threads");
+    Simulation alone = new_simulation(sc);
+    alone.start();
+    alone.advance_to(steps);
+    const std::string expected = block_run_bytes(alone);
+    EXPECT_GT(alone.block()->stats().block_times, static_cast<std::uint64_t>(steps)) << "no step was divided";
+    for (std::size_t r = 0; r < every.size(); ++r)
+      EXPECT_TRUE(every[r] == expected) << "process " << r << "'s state, contacts or counts differ from one process's";
+  }
 }
 
 // A checkpoint's bytes of a run at its current step (the force counters, which count each

@@ -56,9 +56,9 @@ TEST(CommandLine, ABadOmpNumThreadsIsRefused) {
 }
 
 // Copies started by an MPI launcher split `run` and `resume` among them (tests/mpi/split_cli.py);
-// `check` and `export` are one process's work, and a run the decomposition cannot carry yet
-// (here block steps), or [parallel] counts that fit no grid of their number, is refused, before
-// MPI starts and before the folder is touched. One copy says why.
+// `check` and `export` are one process's work, and [parallel] counts that fit no grid of their
+// number, or a [parallel] table with block steps (which share out their active grains, not the
+// box), are refused, before MPI starts and before the folder is touched. One copy says why.
 TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
   TempDir dir;
   const fs::path out = dir.path() / "out", log = dir.path() / "log";
@@ -66,9 +66,9 @@ TEST(CommandLine, SeveralCopiesStartedByMpirunAreRefused) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"check", kValidSmall}, "error: started as 3 processes (mpirun): `tsubu check` runs as one process"},
       {{"export", out.string()}, "error: started as 3 processes (mpirun): `tsubu export` runs as one process"},
-      {{"run", block, "--out", out.string()},
-       "error: started as 3 processes (mpirun): simulation.integrator = \"block_hermite\" is not yet available in a run "
-       "split"},
+      {{"run", block, "--out", out.string(), "--set", "parallel.counts=[1, 1, 3]"},
+       "--set parallel.counts=[1, 1, 3]:1: parallel.counts: block steps share out the active particles among the "
+       "processes, not the box into subdomains: [parallel] is read only with a fixed-step integrator"},
       {{"run", kValidSmall, "--out", out.string(), "--set", "parallel.counts=[2, 2, 1]"},
        "--set parallel.counts=[2, 2, 1]:1: parallel.counts: no grid of 3 subdomains (mpirun -np 3) has 2 x 2 x 1: "}};
   for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"}, std::pair{"PMI_SIZE", "PMI_RANK"}})

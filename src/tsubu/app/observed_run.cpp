@@ -6,17 +6,13 @@
 
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/stop_signal.hpp"
+#include "tsubu/ranks/shared_block_steps.hpp"
 #include "tsubu/scenario/result_names.hpp"
 #include "tsubu/source/build_world.hpp"
 
 namespace tsubu {
 
 void refuse_what_cannot_split(const Scenario& sc, int processes) {
-  const auto refuse = [&](const std::string& key) {
-    throw UsageError("started as " + std::to_string(processes) + " processes (mpirun): " + key +
-                     " is not yet available in a run split among processes (docs/parallel.md); run it as one "
-                     "process, with --threads for the cores of a node");
-  };
   if (!RankGrid::fits(sc.parallel.counts, processes)) {
     const auto& c = sc.parallel.counts;
     throw InputError(sc.parallel.where, "no grid of " + std::to_string(processes) + " subdomains (mpirun -np " +
@@ -25,7 +21,6 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
                                             ": give counts whose product is the number of processes, 0 along an axis for "
                                             "an automatic count, or start as many processes as the counts make");
   }
-  if (sc.integrator == Integrator::block_hermite) refuse("simulation.integrator = \"block_hermite\"");
   if (const int seen = Communicator::world().size(); seen != processes)
     throw UsageError("started as " + std::to_string(processes) + " processes, but this tsubu sees " +
                      std::to_string(seen) + " (built without MPI, or its MPI is not the launcher's): run one "
@@ -34,7 +29,12 @@ void refuse_what_cannot_split(const Scenario& sc, int processes) {
 
 ObservedRun::ObservedRun(const Scenario& sc, Simulation& sim) : part_(sim) {
   const Communicator& comm = Communicator::world();
-  if (comm.rank() == 0) {
+  writes_ = comm.rank() == 0;
+  if (sim.block()) {
+    share_ = share_block_steps(comm, sim);
+    return;
+  }
+  if (writes_) {
     mirror_.emplace(sim.world(), build_model(sc), sc.integrator, sc.block_steps);
     mirror_->forces().restore_counters(sim.forces().counters());
   }
@@ -78,7 +78,8 @@ int ObservedRun::agree_after_step(bool wanted) {
   unread_step_ = word == 0;
   if (word > 0) gather();
   if (word == kFailed) {
-    if (const std::exception_ptr mine = std::exchange(failure_, nullptr)) {
+    const std::exception_ptr mine = std::exchange(failure_, nullptr);
+    if (mine && (decomposition_ || writes_)) {  // with block steps every process failed alike: process 0 says it
       try {
         std::rethrow_exception(mine);
       } catch (const StepAbandoned&) {  // not this process's failure: as below
@@ -108,6 +109,10 @@ bool ObservedRun::agree_last(bool last) {
 
 void ObservedRun::gather() {
   gathered_current_ = true;
+  if (!decomposition_) {  // block steps: every process holds the whole run
+    if (Outflow* outflow = part_.outflow(); outflow && !writes_) outflow->take_departures();
+    return;
+  }
   Decomposition::Gathered all = decomposition_->gathered(part_.world(), part_.forces());
   Outflow* outflow = part_.outflow();  // every process's records every departure
   if (!mirror_) {

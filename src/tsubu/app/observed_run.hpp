@@ -2,7 +2,9 @@
 // one process's Simulation itself, or, for a run split among the processes an MPI launcher
 // started, a mirror on process 0 that holds the whole state gathered from every process on
 // the steps where something reads it (outputs, checkpoints, the progress report); with the
-// decisions every process must share, taken collectively after each step.
+// decisions every process must share, taken collectively after each step. Block steps are
+// not split: every process holds the whole run and shares out the active particles
+// (BlockHermite::share_among), and process 0 writes from its own copy.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -10,6 +12,7 @@
 #include <memory>
 #include <optional>
 
+#include "tsubu/integrate/active_share.hpp"
 #include "tsubu/ranks/decomposition.hpp"
 #include "tsubu/scenario/scenario.hpp"
 #include "tsubu/sim/simulation.hpp"
@@ -22,12 +25,14 @@ class ObservedRun {
   explicit ObservedRun(Simulation& sim) : part_(sim) {}
   // `sim`, the whole run on every process (built from the scenario or restored from a whole
   // checkpoint), split among MPI's processes (refuse_what_cannot_split first): each keeps its
-  // part, and process 0 a copy of the whole as the mirror.
+  // part, and process 0 a copy of the whole as the mirror; with block steps each keeps the
+  // whole and evaluates its share of the active particles.
   ObservedRun(const Scenario& sc, Simulation& sim);
 
-  bool split() const { return decomposition_ != nullptr; }
+  // Started as several processes: a split run, or block steps sharing out their active particles.
+  bool split() const { return decomposition_ != nullptr || share_ != nullptr; }
   // Process 0 (or the one process): the process that writes the run's files.
-  bool writes() const { return !split() || mirror_; }
+  bool writes() const { return writes_; }
   // What the observers read (process 0): the whole state as of the last gather, at the step
   // and time of the last step.
   Simulation& observed() { return mirror_ ? *mirror_ : part_; }
@@ -62,7 +67,9 @@ class ObservedRun {
 
  private:
   Simulation& part_;
-  std::unique_ptr<Decomposition> decomposition_;
+  std::unique_ptr<Decomposition> decomposition_;  // fixed steps: each process holds its subdomain
+  std::unique_ptr<ActiveShare> share_;            // block steps: each holds the whole run (docs/parallel.md)
+  bool writes_ = true;
   std::optional<Simulation> mirror_;  // process 0 of a split run
   std::vector<ProcessLoad> loads_;    // of the last gather, on process 0
   bool unread_step_ = false;          // the last agree_after_step gathered nothing
@@ -81,8 +88,7 @@ class ObservedRun {
 std::unique_ptr<Decomposition> split_among_processes(const Communicator& comm, Simulation& sim, const Domain& cut,
                                                      const ParallelSpec& parallel);
 
-// A run split among the `processes` processes a launcher started is refused (UsageError) for
-// what the decomposition does not carry yet, naming the key (block steps), and when the
+// A run among the `processes` processes a launcher started is refused (UsageError) when the
 // processes are not one MPI job (a build without MPI); an InputError when no grid of that
 // many subdomains has the scenario's parallel.counts. Starts MPI.
 void refuse_what_cannot_split(const Scenario& sc, int processes);

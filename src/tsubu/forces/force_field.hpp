@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -144,6 +145,27 @@ class ForceField {
   // Throws std::invalid_argument when a law has no rates (LawTable::without_rates).
   void compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                       const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out);
+  // compute_active's evaluation for block steps shared among processes (BlockHermite::
+  // share_among): the active particles `here` marks, listed in `mine`, of those is_active
+  // marks. A contact is evaluated here from its first active particle here (so a pair whose
+  // particles are active on two processes, on both, alike). Returns the deepest overlap over
+  // diameter of those particles' contacts (infinite for a force not finite) for
+  // check_overlaps, once every process's evaluation is in (take_active).
+  double evaluate_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& mine,
+                         const std::vector<char>& is_active, const std::vector<char>& here, const ContactStepRules& rules,
+                         EvaluationRates& out);
+  // Throws NumericalError, naming the deepest contact, when `worst` (evaluate_active's)
+  // exceeds Model::overlap_limit.
+  void check_overlaps(const World& world, double worst) const;
+  // What the last evaluate_active found for the particles `mine` (of those is_active marks),
+  // appended to `out` for the other processes: each particle's force, torque, contact count
+  // and crowding; each contact evaluated for them, once (the pairs of their first particle,
+  // and of their second where the first is not active) with its touching flag, history,
+  // result and rates; the contact evaluations counted. take_active reads it into this
+  // process's copy from bytes[at ...).
+  void pack_active(const World& world, const std::vector<std::uint32_t>& mine, const std::vector<char>& is_active,
+                   std::string& out) const;
+  void take_active(World& world, std::string_view bytes, std::size_t& at);
   // Block steps: the change of the active particles' contact forces and torques when the
   // velocities and spins change by dv, dw (per particle, zero for the others) at the last
   // evaluation's positions: the dashpots' linear response -eta_n (du.n) n - eta_t du_t to the
@@ -312,6 +334,7 @@ class ForceField {
   double skin_ = 0;
   std::size_t admitted_ = 0;  // particles whose translational mass is set
   std::uint64_t evaluations_ = 0, particle_evaluations_ = 0, rebuilds_ = 0;
+  std::uint64_t active_evaluations_ = 0;  // the contact evaluations of the last evaluate_active
   bool started_ = false;  // an evaluation has succeeded: the run has left its initial state
   Neighbourhood* neighbourhood_ = nullptr;
   bool keeps_records_ = false;  // the lists' records outlive a list change (block steps' builds)

@@ -5,7 +5,10 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <type_traits>
 
+#include "tsubu/core/bytes.hpp"
 #include "tsubu/core/parallel.hpp"
 #include "tsubu/forces/evaluate.hpp"
 #include "tsubu/forces/force_field.hpp"
@@ -15,6 +18,12 @@ namespace tsubu {
 
 void ForceField::compute_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
                                 const std::vector<char>& is_active, const ContactStepRules& rules, EvaluationRates& out) {
+  check_overlaps(world, evaluate_active(world, kin, active, is_active, is_active, rules, out));
+}
+
+double ForceField::evaluate_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
+                                   const std::vector<char>& is_active, const std::vector<char>& here,
+                                   const ContactStepRules& rules, EvaluationRates& out) {
   if (!without_rates_.empty())
     throw std::invalid_argument("the " + without_rates_ + " has no rates: block steps cannot evaluate it");
   Particles& p = world.particles;
@@ -26,7 +35,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   wall_results_.resize(walls.size(), false, rolls_);
   pair_rates_.resize(pairs.size());
   wall_rates_.resize(walls.size());
-  // Each contact once, from its first active particle; contacts of different active
+  // Each contact once, from its first active particle here; contacts of different active
   // particles are disjoint, so the active list can be split between threads. An active
   // particle's pairs go in blocks, each pair with its own law.
   const PredictedState state{kin};
@@ -44,7 +53,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     contacts.for_each_contact_of(active[q], [&](std::uint32_t k, auto side) {
       if (side == 0) {
         evaluate_wall(world, state, k, &rules);
-      } else if (side > 0 || !is_active[pairs[k].i]) {
+      } else if (side > 0 || !here[pairs[k].i]) {
         block[m++] = k;
         if (m == kBlock) evaluate_pair_block(world, state, ListIndices{block, m}, pair_law_, &rules), m = 0;
       }
@@ -94,10 +103,88 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
     out.touched_for[i] = g.began == 1 && g.ended == 0 ? g.touched_for : 0.0;
     out.released_for[i] = g.ended == 1 && g.began == 0 ? g.released_for : 0.0;
   });
-  for (std::uint64_t c : touching) evaluations_ += c;
-  const double max_ratio = worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
-  if (!(max_ratio <= model_->overlap_limit)) report_overlap(world, true);
+  active_evaluations_ = 0;
+  for (std::uint64_t c : touching) active_evaluations_ += c;
+  evaluations_ += active_evaluations_;
   started_ = true;
+  return worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
+}
+
+void ForceField::check_overlaps(const World& world, double worst) const {
+  if (!(worst <= model_->overlap_limit)) report_overlap(world, true);
+}
+
+namespace {
+static_assert(std::is_trivially_copyable_v<ContactHistory>);
+}  // namespace
+
+// A contact's record in pack_active: its kind (a pair or a wall, apart or touching), its index
+// and, when it touches, its history, result and the rates the dashpots' response reads (the
+// others are read only by the gather of the process that evaluated it). A contact apart has
+// the empty history and zero results the evaluation gave it.
+enum ContactRecordKind : char { kPairApart, kPairTouching, kWallApart, kWallTouching };
+
+void ForceField::pack_active(const World& world, const std::vector<std::uint32_t>& mine, const std::vector<char>& is_active,
+                             std::string& out) const {
+  const Particles& p = world.particles;
+  const ContactList& contacts = world.contacts;
+  const bool crowds = !crowd_list_.empty(), meshes = !world.wall_elements.empty();
+  put(out, active_evaluations_);
+  put(out, static_cast<std::uint64_t>(mine.size()));
+  std::string links;
+  std::uint64_t link_count = 0;
+  for (std::uint32_t i : mine) {
+    put(out, i), put(out, p.force[i]), put(out, p.torque[i]), put(out, p.contact_count[i]);
+    if (crowds) put(out, crowding_[i]);
+    contacts.for_each_contact_of(i, [&](std::uint32_t k, auto side) {
+      if (side < 0 && is_active[contacts.pairs()[k].i]) return;  // its first particle's process sends it
+      const bool wall = side == 0;
+      const Contact& c = wall ? contacts.walls()[k] : contacts.pairs()[k];
+      put(links, static_cast<char>(wall ? (c.touching ? kWallTouching : kWallApart) : (c.touching ? kPairTouching : kPairApart)));
+      put(links, k);
+      if (wall && meshes) put(links, wall_touch_[k]);
+      ++link_count;
+      if (!c.touching) return;
+      const Results& res = wall ? wall_results_ : pair_results_;
+      const Rates& rt = wall ? wall_rates_[k] : pair_rates_[k];
+      put(links, c.history), put(links, res.entry[k]);
+      put(links, rt.n), put(links, rt.damping), put(links, rt.tangential_damping), put(links, rt.rolling_damping);
+      if (rolls_) put(links, res.rolling_i[k]);
+    });
+  }
+  put(out, link_count);
+  out += links;
+}
+
+void ForceField::take_active(World& world, std::string_view bytes, std::size_t& at) {
+  Particles& p = world.particles;
+  ContactList& contacts = world.contacts;
+  const bool crowds = !crowd_list_.empty(), meshes = !world.wall_elements.empty();
+  evaluations_ += take<std::uint64_t>(bytes, at);
+  for (auto n = take<std::uint64_t>(bytes, at); n > 0; --n) {
+    const auto i = take<std::uint32_t>(bytes, at);
+    p.force[i] = take<Vec3>(bytes, at), p.torque[i] = take<Vec3>(bytes, at), p.contact_count[i] = take<int>(bytes, at);
+    if (crowds) crowding_[i] = take<Crowding>(bytes, at);
+  }
+  for (auto n = take<std::uint64_t>(bytes, at); n > 0; --n) {
+    const auto kind = take<char>(bytes, at);
+    const auto k = take<std::uint32_t>(bytes, at);
+    const bool wall = kind == kWallApart || kind == kWallTouching;
+    if (wall && meshes) wall_touch_[k] = take<ElementTouch>(bytes, at);
+    Contact& c = wall ? contacts.walls()[k] : contacts.pairs()[k];
+    Results& res = wall ? wall_results_ : pair_results_;
+    Rates& rt = wall ? wall_rates_[k] : pair_rates_[k];
+    c.touching = kind == kWallTouching || kind == kPairTouching;
+    if (!c.touching) {
+      c.history = {}, res.entry[k] = {};
+      if (rolls_) res.rolling_i[k] = {};
+      continue;
+    }
+    c.history = take<ContactHistory>(bytes, at), res.entry[k] = take<ContactResult>(bytes, at);
+    rt.n = take<Vec3>(bytes, at), rt.damping = take<double>(bytes, at), rt.tangential_damping = take<double>(bytes, at);
+    rt.rolling_damping = take<double>(bytes, at);
+    if (rolls_) res.rolling_i[k] = take<Vec3>(bytes, at);
+  }
 }
 
 void ForceField::dashpot_response(const World& world, const std::vector<std::uint32_t>& active,

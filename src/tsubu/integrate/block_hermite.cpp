@@ -6,8 +6,12 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <string>
+#include <tuple>
+#include <type_traits>
 
 #include "tsubu/contact/pair_geometry.hpp"
+#include "tsubu/core/bytes.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/core/parallel.hpp"
 #include "tsubu/integrate/integrators.hpp"
@@ -416,10 +420,75 @@ void BlockHermite::wake(const World& world, std::int64_t t) {
   }
 }
 
+std::pair<std::size_t, std::size_t> BlockHermite::share_of(int rank) const {
+  const std::size_t n = active_.size(), processes = share_ ? static_cast<std::size_t>(share_->size()) : 1;
+  const auto r = static_cast<std::size_t>(rank);
+  return {n * r / processes, n * (r + 1) / processes};
+}
+
+void BlockHermite::take_share() {
+  std::tie(share_begin_, share_end_) = share_of(share_ ? share_->rank() : 0);
+  if (share_) mine_.assign(active_.begin() + static_cast<std::ptrdiff_t>(share_begin_), active_.begin() + static_cast<std::ptrdiff_t>(share_end_));
+}
+
 void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
-  forces.compute_active(world, predictor_cached(world, t), active_, is_active_, contact_rules(),
-                        rates_);
+  take_share();
+  const Predictor kin = predictor_cached(world, t);
+  if (share_) evaluate_shared(world, forces, kin);
+  else forces.compute_active(world, kin, active_, is_active_, contact_rules(), rates_);
   for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
+}
+
+void BlockHermite::evaluate_shared(World& world, ForceField& forces, const Predictor& kin) {
+  here_.resize(world.particles.size(), 0);
+  for (std::uint32_t i : mine_) here_[i] = 1;
+  const double worst = forces.evaluate_active(world, kin, mine_, is_active_, here_, contact_rules(), rates_);
+  for (std::uint32_t i : mine_) here_[i] = 0;
+  // Besides the force field's records, each active particle's rates (in the order of the share).
+  const auto rates_of = [&](std::uint32_t i, auto&& each) {
+    each(rates_.force[i]), each(rates_.torque[i]), each(rates_.step_bound[i]), each(rates_.damping_rate[i]);
+    each(rates_.touched_for[i]), each(rates_.released_for[i]);
+  };
+  std::string bytes;
+  put(bytes, worst);
+  forces.pack_active(world, mine_, is_active_, bytes);
+  for (std::uint32_t i : mine_) rates_of(i, [&](const auto& v) { put(bytes, v); });
+  const std::vector<std::string> all = share_->gather_all(bytes);
+  double deepest = worst;
+  for (int r = 0; r < share_->size(); ++r) {
+    if (r == share_->rank()) continue;
+    const std::string& b = all[static_cast<std::size_t>(r)];
+    std::size_t at = 0;
+    const auto w = take<double>(b, at);
+    if (!(w <= deepest)) deepest = w;  // a NaN too
+    forces.take_active(world, b, at);
+    const auto [begin, end] = share_of(r);
+    for (std::size_t q = begin; q < end; ++q)
+      rates_of(active_[q], [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
+  }
+  forces.check_overlaps(world, deepest);
+}
+
+void BlockHermite::exchange_corrections(World& world) {
+  // What correct() wrote for each active particle q of a share, in that order.
+  Particles& p = world.particles;
+  const auto corrected = [&](std::size_t q, auto&& each) {
+    const std::uint32_t i = active_[q];
+    each(p.position[i]), each(p.velocity[i]), each(p.omega[i]), each(p.force[i]), each(p.torque[i]);
+    each(state_.acc[i]), each(state_.jerk[i]), each(state_.alpha[i]), each(state_.alpha_dot[i]), each(state_.time[i]);
+    each(aarseth_[i]), each(change_v_[i]), each(change_w_[i]);
+    each(predicted_acc_[q]), each(predicted_alpha_[q]), each(fluid_slope_[q]);
+  };
+  std::string bytes;
+  for (std::size_t q = share_begin_; q < share_end_; ++q) corrected(q, [&](const auto& v) { put(bytes, v); });
+  const std::vector<std::string> all = share_->gather_all(bytes);
+  for (int r = 0; r < share_->size(); ++r) {
+    if (r == share_->rank()) continue;
+    const std::string& b = all[static_cast<std::size_t>(r)];
+    std::size_t at = 0;
+    const auto [begin, end] = share_of(r);
+    for (std::size_t q = begin; q < end; ++q) corrected(q, [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
+  }
 }
 
 void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before) {
@@ -447,9 +516,9 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   Particles& p = world.particles;
   const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);
-  std::vector<char> lost(active_.size(), 0);
   predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size()), fluid_slope_.resize(active_.size());
-  parallel_for(active_.size(), [&](std::size_t q) {
+  parallel_for(share_end_ - share_begin_, [&](std::size_t s) {  // this process's share
+    const std::size_t q = share_begin_ + s;
     const std::uint32_t i = active_[q];
     const double h = static_cast<double>(t - state_.time[i]) * dt_tick;
     const Kinematics pred = kin.at(i);
@@ -518,12 +587,12 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // contact ended: the fit's a2, a3 are no derivatives of a smooth force (without gravity
     // to floor |a| they asked for the finest level), and the event rule takes over there.
     aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended ? aarseth(rules_.eta_a, g, a1, j1, a2 + h * a3, a3) : kNever;
-    lost[q] = !(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z));  // beyond an open face: removed at the step's end
   });
-  for (std::size_t q = 0; q < active_.size(); ++q)
-    if (lost[q]) {
-      const std::uint32_t i = active_[q];
-      const Vec3 x = p.position[i], v = p.velocity[i];
+  if (share_) exchange_corrections(world);
+  for (const std::uint32_t i : active_) {
+    const Vec3 x = p.position[i];
+    if (!(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z))) {  // beyond an open face: removed at the step's end
+      const Vec3 v = p.velocity[i];
       std::ostringstream msg;
       msg << "step " << world.step + 1 << " (block time " << world.time << " s, level " << int(state_.level[i])
           << "): particle id " << p.id[i] << " left the domain or is not finite: x = (" << x.x << ", " << x.y << ", "
@@ -531,6 +600,7 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
           << " rules too loose for this problem ([simulation.block_steps])";
       throw NumericalError(msg.str());
     }
+  }
   correct_dashpots(world, forces);
 }
 

@@ -9,9 +9,11 @@
 // equal and opposite over every shared step).
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "tsubu/forces/force_field.hpp"
+#include "tsubu/integrate/active_share.hpp"
 #include "tsubu/integrate/hermite_state.hpp"
 #include "tsubu/world/kinematics.hpp"
 
@@ -96,6 +98,14 @@ class BlockHermite {
   // at time (world.step + 1) dt, which world.step and world.time then say.
   void advance(World& world, ForceField& forces);
 
+  // Block steps shared among processes (docs/parallel.md, "Block steps on several
+  // processes"): every process holds every particle and advances alike; at each block time
+  // each evaluates and corrects its share of the active particles (a run of the sorted
+  // active list), and the processes exchange what they found twice (the evaluation, then the
+  // corrected state), so that each ends the block time with one process's bits. `share`
+  // must outlive the integrator; null: one process.
+  void share_among(const ActiveShare* share) { share_ = share; }
+
   const HermiteState& state() const { return state_; }
   const BlockStepStats& stats() const { return stats_; }
   const std::vector<Vec3>& list_positions() const { return list_positions_; }
@@ -128,6 +138,10 @@ class BlockHermite {
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
   double list_skin_ = 0;
+  const ActiveShare* share_ = nullptr;
+  std::size_t share_begin_ = 0, share_end_ = 0;  // this process's share of active_ at this block time
+  std::vector<std::uint32_t> mine_;              // active_[share_begin_ .. share_end_)
+  std::vector<char> here_;                       // per particle: in mine_
 
   double tick(const World& world) const;
   // The Predictor of block time `now`, reading the predictions predict_around() made then.
@@ -146,8 +160,17 @@ class BlockHermite {
   void index_levels();
   void collect_active(std::int64_t t);
   void wake(const World& world, std::int64_t t);
+  // Process `rank`'s share of the active particles, a run [begin, end) of active_, and this
+  // process's taken (all of them for one process).
+  std::pair<std::size_t, std::size_t> share_of(int rank) const;
+  void take_share();
   void evaluate(World& world, ForceField& forces, std::int64_t t);
+  // The evaluation of the active particles by the processes sharing them: this process's
+  // share, then everyone's exchanged.
+  void evaluate_shared(World& world, ForceField& forces, const Predictor& kin);
   void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
+  // The corrected state of every share, on every process.
+  void exchange_corrections(World& world);
   void correct_dashpots(World& world, const ForceField& forces);
   // The dashpots' step bound of particle i: eta_damping over their decay rate (with
   // `measured`, the lower of the bound and the rate measured at its last correction).

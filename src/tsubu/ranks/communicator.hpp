@@ -50,6 +50,8 @@ class Communicator {
   // The same when each process knows how many bytes every other sends it (from_each, by
   // sender): one collective instead of two.
   std::vector<std::string> exchange(const std::vector<std::string>& to_each, const std::vector<std::size_t>& from_each) const;
+  // Every process's bytes, by rank, on every process.
+  std::vector<std::string> gather_all(const std::string& bytes) const;
   // Every process's bytes, by rank, on process 0; empty elsewhere.
   std::vector<std::string> gather(const std::string& bytes) const;
   // Whether any process passes true; the largest and the smallest value over the processes.

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "tsubu/core/bytes.hpp"
 #include "tsubu/core/error.hpp"
 #include "tsubu/world/spatial_sort.hpp"
 
@@ -15,20 +16,6 @@ namespace tsubu {
 namespace {
 
 static_assert(std::is_trivially_copyable_v<ContactLink> && std::is_trivially_copyable_v<ContactResult>);
-
-template <class T>
-void put(std::string& out, const T& v) {
-  static_assert(std::is_trivially_copyable_v<T>);
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-template <class T>
-T take(const std::string& bytes, std::size_t& at) {
-  T v;
-  std::memcpy(&v, bytes.data() + at, sizeof v);
-  at += sizeof v;
-  return v;
-}
 
 // Particle i with everything it carries (every array of Particles).
 void pack(const Particles& p, std::size_t i, std::string& out) {

@@ -1038,6 +1038,10 @@ void read_search(Section s, Scenario& sc) {
 }
 
 void read_parallel(Section s, Scenario& sc) {
+  if (sc.integrator == Integrator::block_hermite)
+    s.fail(s.has("counts") ? "counts" : "balance",
+           "block steps share out the active particles among the processes, not the box into subdomains: "
+           "[parallel] is read only with a fixed-step integrator (docs/parallel.md)");
   const std::vector<std::int64_t> counts = s.integers("counts", {0, 0, 0});
   if (counts.size() != 3) s.fail("counts", "must be three integers (subdomains along x, y and z), got " + std::to_string(counts.size()));
   for (std::size_t a = 0; a < 3; ++a) {

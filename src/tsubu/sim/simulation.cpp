@@ -45,8 +45,12 @@ std::exception_ptr Simulation::step_to_its_end() {
   std::exception_ptr failure;
   if (block_) {
     if (sort_due()) renumber();
-    block_->advance(world_, forces_);
-    remove_departed_at_block_end();
+    try {
+      block_->advance(world_, forces_);
+      remove_departed_at_block_end();
+    } catch (const NumericalError&) {  // every process sharing the block steps fails alike
+      failure = std::current_exception();
+    }
   } else {
     try {
       advance(integrator_, world_, [&](double fluid_lead) {

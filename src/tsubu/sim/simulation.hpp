@@ -57,7 +57,8 @@ class Simulation {
   // step(), but the failed force check returned instead of thrown (null: none); the inflow's
   // grains then do not enter. In a run split among processes a lost particle is returned too,
   // on its process, and StepAbandoned on the others, each having ended the step where the
-  // failing process's was (after the drift).
+  // failing process's was (after the drift). With block steps, every failure (NumericalError)
+  // at the block time where it happened.
   std::exception_ptr step_to_its_end();
   // Steps until world().step == step.
   void advance_to(std::int64_t step);

@@ -1,0 +1,20 @@
+// The processes among which block steps share out their active particles (docs/parallel.md,
+// "Block steps on several processes"): every process holds every particle and takes the same
+// decisions; at each block time each evaluates and corrects its share of the active
+// particles, and all exchange what they found.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace tsubu {
+
+class ActiveShare {
+ public:
+  virtual ~ActiveShare() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Every process's bytes, by process, on every process.
+  virtual std::vector<std::string> gather_all(const std::string& bytes) const = 0;
+};
+
+}  // namespace tsubu
