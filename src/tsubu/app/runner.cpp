@@ -220,6 +220,17 @@ void follow(ObservedRun& run, bool fresh) {
   }
 }
 
+// Block steps on several processes give one process's bits, not its speed (docs/parallel.md,
+// "Block steps on several processes"): said once, by process 0.
+void warn_of_shared_block_steps(const Scenario& sc, const Processes& processes) {
+  if (processes.count > 1 && sc.integrator == Integrator::block_hermite)
+    std::fprintf(stderr,
+                 "tsubu: WARNING: block steps on %d processes: each holds the whole run and evaluates its share of "
+                 "the active grains at every block time, which is slower than one process (1.5-1.7 times on 2 "
+                 "processes, docs/parallel.md); for speed run block steps as one process, with --threads\n",
+                 processes.count);
+}
+
 // The scenario checkpoint c (file `used`) stores, with a resume's --set values.
 Scenario resumed_scenario(const Checkpoint& c, const std::filesystem::path& used, const std::vector<std::string>& sets) {
   const Scenario stored = scenario_of(c, used);
@@ -238,6 +249,7 @@ RunSummary run_scenario(const Scenario& sc, const std::string& out_dir, int thre
     return {};
   }
   for (const std::string& w : time_scales(sc, sim.world()).warnings) std::fprintf(stderr, "tsubu: WARNING: %s\n", w.c_str());
+  warn_of_shared_block_steps(sc, processes);
   const OutputDir owner = OutputDir::claim_new(out_dir, overwrite);
   ObservedRun run = processes.count > 1 ? ObservedRun(sc, sim) : ObservedRun(sim);
   return execute(sc, run, out_dir, owner.run_id(), threads, progress, nullptr);
@@ -269,6 +281,7 @@ RunSummary resume_run(const std::string& out_dir, int threads, bool progress, co
                  used.string().c_str(), c.engine_version.c_str(), kVersion);
   const Scenario sc = resumed_scenario(c, used, sets);
   if (processes.count > 1) refuse_what_cannot_split(sc, processes.count);
+  warn_of_shared_block_steps(sc, processes);
   refuse_losing_rows(sc, c, used, out_dir);
   Simulation sim = restore_simulation(sc, c, used);
   std::fprintf(stderr, "tsubu: resuming %s from %s (step %lld, t = %.9g s)\n", sc.name.c_str(), used.string().c_str(),

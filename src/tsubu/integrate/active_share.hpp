@@ -4,6 +4,7 @@
 // particles, and all exchange what they found.
 #pragma once
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tsubu {
@@ -13,8 +14,8 @@ class ActiveShare {
   virtual ~ActiveShare() = default;
   virtual int rank() const = 0;
   virtual int size() const = 0;
-  // Every process's bytes, by process, on every process.
-  virtual std::vector<std::string> gather_all(const std::string& bytes) const = 0;
+  // Every process's bytes, by process, on every process (valid until the next call).
+  virtual std::vector<std::string_view> gather_all(const std::string& bytes) = 0;
 };
 
 }  // namespace tsubu

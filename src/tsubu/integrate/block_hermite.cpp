@@ -431,67 +431,69 @@ void BlockHermite::take_share() {
   if (share_) mine_.assign(active_.begin() + static_cast<std::ptrdiff_t>(share_begin_), active_.begin() + static_cast<std::ptrdiff_t>(share_end_));
 }
 
+template <class Each>
+void BlockHermite::rates_of(std::uint32_t i, Each&& each) {
+  each(rates_.force[i]), each(rates_.torque[i]), each(rates_.step_bound[i]), each(rates_.damping_rate[i]);
+  each(rates_.touched_for[i]), each(rates_.released_for[i]);
+}
+
+template <class Each>
+void BlockHermite::corrected(World& world, std::size_t q, Each&& each) {
+  Particles& p = world.particles;
+  const std::uint32_t i = active_[q];
+  each(p.position[i]), each(p.velocity[i]), each(p.omega[i]), each(p.force[i]), each(p.torque[i]);
+  each(state_.acc[i]), each(state_.jerk[i]), each(state_.alpha[i]), each(state_.alpha_dot[i]), each(state_.time[i]);
+  each(aarseth_[i]), each(change_v_[i]), each(change_w_[i]);
+  each(predicted_acc_[q]), each(predicted_alpha_[q]), each(fluid_slope_[q]);
+}
+
 void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
   take_share();
   const Predictor kin = predictor_cached(world, t);
-  if (share_) evaluate_shared(world, forces, kin);
-  else forces.compute_active(world, kin, active_, is_active_, contact_rules(), rates_);
-  for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
-}
-
-void BlockHermite::evaluate_shared(World& world, ForceField& forces, const Predictor& kin) {
+  if (!share_) return forces.compute_active(world, kin, active_, is_active_, contact_rules(), rates_);
   here_.resize(world.particles.size(), 0);
   for (std::uint32_t i : mine_) here_[i] = 1;
   const double worst = forces.evaluate_active(world, kin, mine_, is_active_, here_, contact_rules(), rates_);
   for (std::uint32_t i : mine_) here_[i] = 0;
-  // Besides the force field's records, each active particle's rates (in the order of the share).
-  const auto rates_of = [&](std::uint32_t i, auto&& each) {
-    each(rates_.force[i]), each(rates_.torque[i]), each(rates_.step_bound[i]), each(rates_.damping_rate[i]);
-    each(rates_.touched_for[i]), each(rates_.released_for[i]);
-  };
-  std::string bytes;
-  put(bytes, worst);
-  forces.pack_active(world, mine_, is_active_, bytes);
-  for (std::uint32_t i : mine_) rates_of(i, [&](const auto& v) { put(bytes, v); });
-  const std::vector<std::string> all = share_->gather_all(bytes);
-  double deepest = worst;
+  // What this process found, for the others (exchange_share).
+  shared_bytes_.clear();
+  put(shared_bytes_, worst);
+  forces.pack_active(world, mine_, is_active_, shared_bytes_);
+  for (std::uint32_t i : mine_) rates_of(i, [&](const auto& v) { put(shared_bytes_, v); });
+}
+
+void BlockHermite::exchange_share(World& world, ForceField& forces) {
+  for (std::size_t q = share_begin_; q < share_end_; ++q) corrected(world, q, [&](const auto& v) { put(shared_bytes_, v); });
+  const std::vector<std::string_view> all = share_->gather_all(shared_bytes_);
+  double deepest = 0;
+  std::vector<std::size_t> corrections(all.size());  // where each process's corrected state begins
   for (int r = 0; r < share_->size(); ++r) {
-    if (r == share_->rank()) continue;
-    const std::string& b = all[static_cast<std::size_t>(r)];
+    const std::string_view b = all[static_cast<std::size_t>(r)];
     std::size_t at = 0;
     const auto w = take<double>(b, at);
     if (!(w <= deepest)) deepest = w;  // a NaN too
+    if (r == share_->rank()) continue;
     forces.take_active(world, b, at);
     const auto [begin, end] = share_of(r);
-    for (std::size_t q = begin; q < end; ++q)
-      rates_of(active_[q], [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
+    for (std::size_t q = begin; q < end; ++q) rates_of(active_[q], [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
+    corrections[static_cast<std::size_t>(r)] = at;
   }
-  forces.check_overlaps(world, deepest);
-}
-
-void BlockHermite::exchange_corrections(World& world) {
-  // What correct() wrote for each active particle q of a share, in that order.
-  Particles& p = world.particles;
-  const auto corrected = [&](std::size_t q, auto&& each) {
-    const std::uint32_t i = active_[q];
-    each(p.position[i]), each(p.velocity[i]), each(p.omega[i]), each(p.force[i]), each(p.torque[i]);
-    each(state_.acc[i]), each(state_.jerk[i]), each(state_.alpha[i]), each(state_.alpha_dot[i]), each(state_.time[i]);
-    each(aarseth_[i]), each(change_v_[i]), each(change_w_[i]);
-    each(predicted_acc_[q]), each(predicted_alpha_[q]), each(fluid_slope_[q]);
-  };
-  std::string bytes;
-  for (std::size_t q = share_begin_; q < share_end_; ++q) corrected(q, [&](const auto& v) { put(bytes, v); });
-  const std::vector<std::string> all = share_->gather_all(bytes);
+  if (!(deepest <= forces.model().overlap_limit)) {  // the step ends at the evaluation, as for one process
+    std::size_t at = 0;
+    for (std::size_t q = share_begin_; q < share_end_; ++q)
+      corrected(world, q, [&](auto& v) { v = take<std::decay_t<decltype(v)>>(uncorrected_, at); });
+    forces.check_overlaps(world, deepest);
+  }
   for (int r = 0; r < share_->size(); ++r) {
     if (r == share_->rank()) continue;
-    const std::string& b = all[static_cast<std::size_t>(r)];
-    std::size_t at = 0;
+    const std::string_view b = all[static_cast<std::size_t>(r)];
+    std::size_t at = corrections[static_cast<std::size_t>(r)];
     const auto [begin, end] = share_of(r);
-    for (std::size_t q = begin; q < end; ++q) corrected(q, [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
+    for (std::size_t q = begin; q < end; ++q) corrected(world, q, [&](auto& v) { v = take<std::decay_t<decltype(v)>>(b, at); });
   }
 }
 
-void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before) {
+void BlockHermite::correct(World& world, ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before) {
   // Spec section 1, corrector: with h = t - t_i,
   //   a2 = (-6 (a0 - a1) - h (4 j0 + 2 j1)) / h^2, a3 = (12 (a0 - a1) + 6 h (j0 + j1)) / h^3,
   //   x = x_p + a2 h^4/24 + a3 h^5/120, v = v_p + a2 h^3/6 + a3 h^4/24; rotation likewise.
@@ -517,6 +519,10 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
   const Predictor kin = predictor_cached(world, t);
   const double dt_tick = tick(world);
   predicted_acc_.resize(active_.size()), predicted_alpha_.resize(active_.size()), fluid_slope_.resize(active_.size());
+  if (share_) {  // this share's state before the corrector, should an overlap elsewhere end the step here
+    uncorrected_.clear();
+    for (std::size_t q = share_begin_; q < share_end_; ++q) corrected(world, q, [&](const auto& v) { put(uncorrected_, v); });
+  }
   parallel_for(share_end_ - share_begin_, [&](std::size_t s) {  // this process's share
     const std::size_t q = share_begin_ + s;
     const std::uint32_t i = active_[q];
@@ -588,7 +594,8 @@ void BlockHermite::correct(World& world, const ForceField& forces, std::int64_t 
     // to floor |a| they asked for the finest level), and the event rule takes over there.
     aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended ? aarseth(rules_.eta_a, g, a1, j1, a2 + h * a3, a3) : kNever;
   });
-  if (share_) exchange_corrections(world);
+  if (share_) exchange_share(world, forces);
+  for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
   for (const std::uint32_t i : active_) {
     const Vec3 x = p.position[i];
     if (!(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z))) {  // beyond an open face: removed at the step's end

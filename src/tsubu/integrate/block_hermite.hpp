@@ -9,6 +9,7 @@
 // equal and opposite over every shared step).
 #pragma once
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -104,7 +105,7 @@ class BlockHermite {
   // active list), and the processes exchange what they found twice (the evaluation, then the
   // corrected state), so that each ends the block time with one process's bits. `share`
   // must outlive the integrator; null: one process.
-  void share_among(const ActiveShare* share) { share_ = share; }
+  void share_among(ActiveShare* share) { share_ = share; }
 
   const HermiteState& state() const { return state_; }
   const BlockStepStats& stats() const { return stats_; }
@@ -138,10 +139,12 @@ class BlockHermite {
   std::vector<double> list_reach_;
   bool lists_stale_ = false;
   double list_skin_ = 0;
-  const ActiveShare* share_ = nullptr;
+  ActiveShare* share_ = nullptr;
   std::size_t share_begin_ = 0, share_end_ = 0;  // this process's share of active_ at this block time
   std::vector<std::uint32_t> mine_;              // active_[share_begin_ .. share_end_)
   std::vector<char> here_;                       // per particle: in mine_
+  std::string shared_bytes_;                     // what this process sends at this block time
+  std::string uncorrected_;                      // its share's state before the corrector
 
   double tick(const World& world) const;
   // The Predictor of block time `now`, reading the predictions predict_around() made then.
@@ -160,17 +163,24 @@ class BlockHermite {
   void index_levels();
   void collect_active(std::int64_t t);
   void wake(const World& world, std::int64_t t);
-  // Process `rank`'s share of the active particles, a run [begin, end) of active_, and this
-  // process's taken (all of them for one process).
+  // Process `rank`'s share of the active particles, a run [begin, end) of active_ of equal
+  // count, and this process's taken (all of them for one process).
   std::pair<std::size_t, std::size_t> share_of(int rank) const;
   void take_share();
+  // The evaluation of the active particles (shared: of this process's share).
   void evaluate(World& world, ForceField& forces, std::int64_t t);
-  // The evaluation of the active particles by the processes sharing them: this process's
-  // share, then everyone's exchanged.
-  void evaluate_shared(World& world, ForceField& forces, const Predictor& kin);
-  void correct(World& world, const ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
-  // The corrected state of every share, on every process.
-  void exchange_corrections(World& world);
+  void correct(World& world, ForceField& forces, std::int64_t t, const std::vector<int>& contacts_before);
+  // Shared block steps, once this process has evaluated and corrected its share: every
+  // share's evaluation and corrected state on every process, in one exchange. An overlap
+  // beyond the limit anywhere ends the step at the evaluation, as for one process: this
+  // share's corrections are undone and NumericalError thrown.
+  void exchange_share(World& world, ForceField& forces);
+  // The values exchange_share sends of each particle of a share: the rates of particle i's
+  // evaluation, and what the corrector wrote for active particle q; `each` visits each.
+  template <class Each>
+  void rates_of(std::uint32_t i, Each&& each);
+  template <class Each>
+  void corrected(World& world, std::size_t q, Each&& each);
   void correct_dashpots(World& world, const ForceField& forces);
   // The dashpots' step bound of particle i: eta_damping over their decay rate (with
   // `measured`, the lower of the bound and the rate measured at its last correction).

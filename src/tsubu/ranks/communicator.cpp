@@ -169,19 +169,17 @@ std::vector<std::string> Communicator::exchange(const std::vector<std::string>& 
   return out;
 }
 
-std::vector<std::string> Communicator::gather_all(const std::string& bytes) const {
+std::vector<std::string_view> Communicator::gather_all(const std::string& bytes, std::string& buffer) const {
   const int mine = count_of(bytes.size());
   std::vector<int> counts(static_cast<std::size_t>(size_));
-  MPI_Request request;
-  MPI_Iallgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD, &request);
-  complete(request, rank_);
+  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const std::vector<int> at = displacements(counts);
-  std::string all(static_cast<std::size_t>(at.back() + counts.back()), '\0');
-  MPI_Iallgatherv(bytes.data(), mine, MPI_BYTE, all.data(), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD, &request);
-  complete(request, rank_);
-  std::vector<std::string> out;
+  const auto total = static_cast<std::size_t>(at.back() + counts.back());
+  if (buffer.size() < total) buffer.resize(total);
+  MPI_Allgatherv(bytes.data(), mine, MPI_BYTE, buffer.data(), counts.data(), at.data(), MPI_BYTE, MPI_COMM_WORLD);
+  std::vector<std::string_view> out;
   for (std::size_t r = 0; r < counts.size(); ++r)
-    out.push_back(all.substr(static_cast<std::size_t>(at[r]), static_cast<std::size_t>(counts[r])));
+    out.emplace_back(buffer.data() + at[r], static_cast<std::size_t>(counts[r]));
   return out;
 }
 
@@ -255,7 +253,10 @@ std::vector<std::string> Communicator::exchange(const std::vector<std::string>& 
                                                 const std::vector<std::size_t>&) const {
   return to_each;
 }
-std::vector<std::string> Communicator::gather_all(const std::string& bytes) const { return {bytes}; }
+std::vector<std::string_view> Communicator::gather_all(const std::string& bytes, std::string& buffer) const {
+  buffer = bytes;
+  return {buffer};
+}
 std::vector<std::string> Communicator::gather(const std::string& bytes) const { return {bytes}; }
 bool Communicator::any(bool mine) const { return mine; }
 double Communicator::max(double mine) const { return mine; }

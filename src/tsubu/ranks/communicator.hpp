@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -50,8 +51,11 @@ class Communicator {
   // The same when each process knows how many bytes every other sends it (from_each, by
   // sender): one collective instead of two.
   std::vector<std::string> exchange(const std::vector<std::string>& to_each, const std::vector<std::size_t>& from_each) const;
-  // Every process's bytes, by rank, on every process.
-  std::vector<std::string> gather_all(const std::string& bytes) const;
+  // Every process's bytes, by rank, on every process: views into `buffer`, which keeps its
+  // largest size (no allocation once it is large enough), valid until it changes. Blocking:
+  // for processes that fail alike (block steps' shares), as process 0 does not watch for
+  // another's failure meanwhile (report_failure's patience then ends the job).
+  std::vector<std::string_view> gather_all(const std::string& bytes, std::string& buffer) const;
   // Every process's bytes, by rank, on process 0; empty elsewhere.
   std::vector<std::string> gather(const std::string& bytes) const;
   // Whether any process passes true; the largest and the smallest value over the processes.

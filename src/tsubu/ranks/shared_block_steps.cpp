@@ -1,6 +1,7 @@
 #include "tsubu/ranks/shared_block_steps.hpp"
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tsubu {
@@ -12,10 +13,11 @@ class ProcessShare final : public ActiveShare {
   explicit ProcessShare(const Communicator& comm) : comm_(comm) {}
   int rank() const override { return comm_.rank(); }
   int size() const override { return comm_.size(); }
-  std::vector<std::string> gather_all(const std::string& bytes) const override { return comm_.gather_all(bytes); }
+  std::vector<std::string_view> gather_all(const std::string& bytes) override { return comm_.gather_all(bytes, received_); }
 
  private:
   const Communicator& comm_;
+  std::string received_;
 };
 
 }  // namespace
