@@ -226,7 +226,7 @@ void warn_of_shared_block_steps(const Scenario& sc, const Processes& processes) 
   if (processes.count > 1 && sc.integrator == Integrator::block_hermite)
     std::fprintf(stderr,
                  "tsubu: WARNING: block steps on %d processes: each holds the whole run and evaluates its share of "
-                 "the active grains at every block time, which is slower than one process (1.5-1.7 times on 2 "
+                 "the active grains at every block time, which is slower than one process (1.3-1.7 times on 2 "
                  "processes, docs/parallel.md); for speed run block steps as one process, with --threads\n",
                  processes.count);
 }
