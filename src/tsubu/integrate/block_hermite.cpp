@@ -595,8 +595,8 @@ void BlockHermite::correct(World& world, ForceField& forces, std::int64_t t, con
     aarseth_[i] = !woken && p.contact_count[i] == 0 && !ended ? aarseth(rules_.eta_a, g, a1, j1, a2 + h * a3, a3) : kNever;
   });
   if (share_) exchange_share(world, forces);
-  for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];
-  for (const std::uint32_t i : active_) {
+  for (std::uint32_t i : active_) ++stats_.evaluations[state_.level[i]];  // evaluated, the overlaps checked
+  for (std::uint32_t i : active_) {
     const Vec3 x = p.position[i];
     if (!(world.domain.kept(x) && std::isfinite(x.x + x.y + x.z))) {  // beyond an open face: removed at the step's end
       const Vec3 v = p.velocity[i];
