@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -151,7 +152,7 @@ class ForceField {
   // particles are active on two processes, on both, alike). Returns the deepest overlap over
   // diameter of those particles' contacts (infinite for a force not finite) for
   // check_overlaps, once every process's evaluation is in (take_active).
-  double evaluate_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& mine,
+  double evaluate_active(World& world, const Predictor& kin, std::span<const std::uint32_t> mine,
                          const std::vector<char>& is_active, const std::vector<char>& here, const ContactStepRules& rules,
                          EvaluationRates& out);
   // Throws NumericalError, naming the deepest contact, when `worst` (evaluate_active's)
@@ -163,7 +164,7 @@ class ForceField {
   // and of their second where the first is not active) with its touching flag, history,
   // result and rates; the contact evaluations counted. take_active reads it into this
   // process's copy from bytes[at ...).
-  void pack_active(const World& world, const std::vector<std::uint32_t>& mine, const std::vector<char>& is_active,
+  void pack_active(const World& world, std::span<const std::uint32_t> mine, const std::vector<char>& is_active,
                    std::string& out) const;
   void take_active(World& world, std::string_view bytes, std::size_t& at);
   // Block steps: the change of the active particles' contact forces and torques when the

@@ -2,8 +2,10 @@
 // contact evaluation (forces/evaluate.hpp, on Dual numbers) and gather as the fixed steps.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -21,7 +23,7 @@ void ForceField::compute_active(World& world, const Predictor& kin, const std::v
   check_overlaps(world, evaluate_active(world, kin, active, is_active, is_active, rules, out));
 }
 
-double ForceField::evaluate_active(World& world, const Predictor& kin, const std::vector<std::uint32_t>& active,
+double ForceField::evaluate_active(World& world, const Predictor& kin, std::span<const std::uint32_t> active,
                                    const std::vector<char>& is_active, const std::vector<char>& here,
                                    const ContactStepRules& rules, EvaluationRates& out) {
   if (!without_rates_.empty())
@@ -124,36 +126,37 @@ static_assert(std::is_trivially_copyable_v<ContactHistory>);
 // the empty history and zero results the evaluation gave it.
 enum ContactRecordKind : char { kPairApart, kPairTouching, kWallApart, kWallTouching };
 
-void ForceField::pack_active(const World& world, const std::vector<std::uint32_t>& mine, const std::vector<char>& is_active,
+void ForceField::pack_active(const World& world, std::span<const std::uint32_t> mine, const std::vector<char>& is_active,
                              std::string& out) const {
   const Particles& p = world.particles;
   const ContactList& contacts = world.contacts;
   const bool crowds = !crowd_list_.empty(), meshes = !world.wall_elements.empty();
   put(out, active_evaluations_);
   put(out, static_cast<std::uint64_t>(mine.size()));
-  std::string links;
-  std::uint64_t link_count = 0;
   for (std::uint32_t i : mine) {
     put(out, i), put(out, p.force[i]), put(out, p.torque[i]), put(out, p.contact_count[i]);
     if (crowds) put(out, crowding_[i]);
+  }
+  const std::size_t count_at = out.size();  // the contacts' count, written once known
+  std::uint64_t link_count = 0;
+  put(out, link_count);
+  for (std::uint32_t i : mine)
     contacts.for_each_contact_of(i, [&](std::uint32_t k, auto side) {
       if (side < 0 && is_active[contacts.pairs()[k].i]) return;  // its first particle's process sends it
       const bool wall = side == 0;
       const Contact& c = wall ? contacts.walls()[k] : contacts.pairs()[k];
-      put(links, static_cast<char>(wall ? (c.touching ? kWallTouching : kWallApart) : (c.touching ? kPairTouching : kPairApart)));
-      put(links, k);
-      if (wall && meshes) put(links, wall_touch_[k]);
+      put(out, static_cast<char>(wall ? (c.touching ? kWallTouching : kWallApart) : (c.touching ? kPairTouching : kPairApart)));
+      put(out, k);
+      if (wall && meshes) put(out, wall_touch_[k]);
       ++link_count;
       if (!c.touching) return;
       const Results& res = wall ? wall_results_ : pair_results_;
       const Rates& rt = wall ? wall_rates_[k] : pair_rates_[k];
-      put(links, c.history), put(links, res.entry[k]);
-      put(links, rt.n), put(links, rt.damping), put(links, rt.tangential_damping), put(links, rt.rolling_damping);
-      if (rolls_) put(links, res.rolling_i[k]);
+      put(out, c.history), put(out, res.entry[k]);
+      put(out, rt.n), put(out, rt.damping), put(out, rt.tangential_damping), put(out, rt.rolling_damping);
+      if (rolls_) put(out, res.rolling_i[k]);
     });
-  }
-  put(out, link_count);
-  out += links;
+  std::memcpy(out.data() + count_at, &link_count, sizeof link_count);
 }
 
 void ForceField::take_active(World& world, std::string_view bytes, std::size_t& at) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -426,10 +427,7 @@ std::pair<std::size_t, std::size_t> BlockHermite::share_of(int rank) const {
   return {n * r / processes, n * (r + 1) / processes};
 }
 
-void BlockHermite::take_share() {
-  std::tie(share_begin_, share_end_) = share_of(share_ ? share_->rank() : 0);
-  if (share_) mine_.assign(active_.begin() + static_cast<std::ptrdiff_t>(share_begin_), active_.begin() + static_cast<std::ptrdiff_t>(share_end_));
-}
+void BlockHermite::take_share() { std::tie(share_begin_, share_end_) = share_of(share_ ? share_->rank() : 0); }
 
 template <class Each>
 void BlockHermite::rates_of(std::uint32_t i, Each&& each) {
@@ -451,15 +449,16 @@ void BlockHermite::evaluate(World& world, ForceField& forces, std::int64_t t) {
   take_share();
   const Predictor kin = predictor_cached(world, t);
   if (!share_) return forces.compute_active(world, kin, active_, is_active_, contact_rules(), rates_);
+  const std::span<const std::uint32_t> mine(active_.data() + share_begin_, share_end_ - share_begin_);
   here_.resize(world.particles.size(), 0);
-  for (std::uint32_t i : mine_) here_[i] = 1;
-  const double worst = forces.evaluate_active(world, kin, mine_, is_active_, here_, contact_rules(), rates_);
-  for (std::uint32_t i : mine_) here_[i] = 0;
+  for (std::uint32_t i : mine) here_[i] = 1;
+  const double worst = forces.evaluate_active(world, kin, mine, is_active_, here_, contact_rules(), rates_);
+  for (std::uint32_t i : mine) here_[i] = 0;
   // What this process found, for the others (exchange_share).
   shared_bytes_.clear();
   put(shared_bytes_, worst);
-  forces.pack_active(world, mine_, is_active_, shared_bytes_);
-  for (std::uint32_t i : mine_) rates_of(i, [&](const auto& v) { put(shared_bytes_, v); });
+  forces.pack_active(world, mine, is_active_, shared_bytes_);
+  for (std::uint32_t i : mine) rates_of(i, [&](const auto& v) { put(shared_bytes_, v); });
 }
 
 void BlockHermite::exchange_share(World& world, ForceField& forces) {

@@ -141,8 +141,7 @@ class BlockHermite {
   double list_skin_ = 0;
   ActiveShare* share_ = nullptr;
   std::size_t share_begin_ = 0, share_end_ = 0;  // this process's share of active_ at this block time
-  std::vector<std::uint32_t> mine_;              // active_[share_begin_ .. share_end_)
-  std::vector<char> here_;                       // per particle: in mine_
+  std::vector<char> here_;                       // per particle: in this process's share
   std::string shared_bytes_;                     // what this process sends at this block time
   std::string uncorrected_;                      // its share's state before the corrector
 
